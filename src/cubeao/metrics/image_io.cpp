@@ -1,0 +1,141 @@
+// AO image files through OpenImageIO; conventions are documented in image_io.h.
+#include "cubeao/metrics/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <system_error>
+
+#include "cubeao/core/error.h"
+
+namespace cubeao {
+namespace fs = std::filesystem;
+
+namespace {
+
+// Built with += because g++ 12 -O2 gives a false -Wrestrict on "'" + std::string (GCC PR 105329).
+std::string quoted(const fs::path& p) {
+    std::string s(1, '\'');
+    s += p.string();
+    s += '\'';
+    return s;
+}
+
+// A name in the target's directory (so rename() stays on one filesystem and is atomic) that no
+// other process or thread uses: pid + a process-wide counter. Hidden, so directory listings that
+// look for ao_NNNN.exr never pick it up.
+fs::path temporaryPathFor(const fs::path& target) {
+    static std::atomic<std::uint64_t> counter{0};
+    std::string name(1, '.');
+    name += target.filename().string();
+    name += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
+    return target.parent_path() / name;
+}
+
+// Writes `pixels` (laid out as `spec` says, in `type`) to a temporary file, then renames it over
+// `path`. The writer is chosen from `path`'s extension, not the temporary name's.
+void writeAtomically(const fs::path& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* pixels) {
+    auto out = OIIO::ImageOutput::create(path.string());
+    if (!out)
+        throw Error("cannot write " + quoted(path) + ": " + OIIO::geterror());
+    const fs::path tmp = temporaryPathFor(path);
+    const bool ok = out->open(tmp.string(), spec) && out->write_image(type, pixels) && out->close();
+    if (!ok) {
+        const std::string why = out->geterror();
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw Error("cannot write " + quoted(path) + ": " + why);
+    }
+    std::error_code ec;
+    fs::rename(tmp, path, ec);
+    if (ec) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw Error("cannot write " + quoted(path) + ": rename from temporary file failed: " + ec.message());
+    }
+}
+
+void checkSize(const fs::path& path, int width, int height) {
+    if (width <= 0 || height <= 0)
+        throw Error("cannot write " + quoted(path) + ": image is empty (" + std::to_string(width) + "x" +
+                    std::to_string(height) + ")");
+}
+
+// Linear 8-bit quantisation (image_io.h explains why no sRGB curve). NaN maps to 0.
+std::vector<std::uint8_t> toBytes(const std::vector<float>& values) {
+    std::vector<std::uint8_t> bytes(values.size());
+    std::transform(values.begin(), values.end(), bytes.begin(), [](float v) {
+        const float c = std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f);
+        return static_cast<std::uint8_t>(std::lround(c * 255.0f));
+    });
+    return bytes;
+}
+
+}  // namespace
+
+void writeExr(const fs::path& path, const Image& image) {
+    checkSize(path, image.width, image.height);
+    OIIO::ImageSpec spec(image.width, image.height, 1, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"Y"};
+    spec.attribute("compression", "zip");
+    writeAtomically(path, spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
+}
+
+Image readImage(const fs::path& path) {
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in)
+        throw Error("cannot read image " + quoted(path) + ": " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.deep || spec.width <= 0 || spec.height <= 0 || spec.nchannels < 1 || spec.depth > 1)
+        throw Error("cannot read image " + quoted(path) + ": not a flat 2D image with at least one channel");
+    Image image(spec.width, spec.height);
+    // Channel 0 only: an RGB(A) file written by another tool still yields its first channel.
+    if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, image.pixels.data()))
+        throw Error("cannot read image " + quoted(path) + ": " + in->geterror());
+    return image;
+}
+
+void writePng(const fs::path& path, const Image& image) {
+    checkSize(path, image.width, image.height);
+    const auto bytes = toBytes(image.pixels);
+    writeAtomically(path, OIIO::ImageSpec(image.width, image.height, 1, OIIO::TypeDesc::UINT8),
+                    OIIO::TypeDesc::UINT8, bytes.data());
+}
+
+void writePngRgb(const fs::path& path, int width, int height, const std::vector<float>& rgb) {
+    checkSize(path, width, height);
+    if (rgb.size() != 3 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height))
+        throw Error("cannot write " + quoted(path) + ": " + std::to_string(rgb.size()) + " values for a " +
+                    std::to_string(width) + "x" + std::to_string(height) + " RGB image");
+    const auto bytes = toBytes(rgb);
+    writeAtomically(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), OIIO::TypeDesc::UINT8,
+                    bytes.data());
+}
+
+Image hstack(const std::vector<Image>& images, int gap, float fill) {
+    if (gap < 0)
+        throw Error("hstack: negative gap " + std::to_string(gap));
+    if (images.empty())
+        return {};
+    int width = gap * (static_cast<int>(images.size()) - 1), height = 0;
+    for (const Image& im : images) {
+        width += im.width;
+        height = std::max(height, im.height);
+    }
+    Image out(width, height, fill);
+    int x0 = 0;
+    for (const Image& im : images) {
+        for (int y = 0; y < im.height; ++y)
+            std::copy_n(im.pixels.data() + static_cast<std::size_t>(y) * im.width, im.width,
+                        out.pixels.data() + static_cast<std::size_t>(y) * width + x0);
+        x0 += im.width + gap;
+    }
+    return out;
+}
+
+}  // namespace cubeao

@@ -1,0 +1,94 @@
+#include "cubeao/reference/ao_reference.h"
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <limits>
+
+#include "cubeao/core/error.h"
+#include "cubeao/core/progress.h"
+#include "cubeao/reference/sampling.h"
+
+namespace cubeao {
+
+Falloff parseFalloff(const std::string& name) {
+    if (name == "none") return Falloff::None;
+    if (name == "smooth") return Falloff::Smooth;
+    throw UsageError("--falloff \"" + name + "\": expected none or smooth");
+}
+
+const char* falloffName(Falloff f) { return f == Falloff::Smooth ? "smooth" : "none"; }
+
+float occlusionWeight(Falloff falloff, float t, float radius) {
+    if (falloff == Falloff::None) return 1.0f;
+    const float x = t / radius, w = 1.0f - x * x;
+    return w * w;
+}
+
+AoEstimate ambientOcclusion(const EmbreeScene& scene, const glm::vec3& p, const glm::vec3& n, float radius,
+                            const AoSettings& settings, std::uint32_t key) {
+    const glm::vec3 org = p + scene.surfaceEpsilon() * n;
+    const auto count = std::uint32_t(settings.spp);
+    double sum = 0.0, sumSq = 0.0;
+    for (std::uint32_t i = 0; i < count; ++i) {
+        const glm::vec3 dir = sampling::cosineHemisphere(sampling::rotatedHammersley(i, count, key), n);
+        float w = 0.0f;
+        if (settings.falloff == Falloff::None) {
+            w = scene.occluded(org, dir, 0.0f, radius) ? 1.0f : 0.0f;
+        } else {
+            const RayHit hit = scene.intersect(org, dir, 0.0f, radius);
+            w = hit.hit ? occlusionWeight(settings.falloff, hit.t, radius) : 0.0f;
+        }
+        sum += w;
+        sumSq += double(w) * w;
+    }
+    const double mean = sum / count;
+    const double var = count > 1 ? std::max(0.0, (sumSq - sum * mean) / (count - 1)) : 0.0;
+    return {float(1.0 - mean), float(std::sqrt(var / count))};
+}
+
+ReferenceFrame renderReferenceFrame(const EmbreeScene& scene, const PinholeCamera& cam, float radius,
+                                    const AoSettings& settings, std::uint32_t frameIndex, Progress* progress) {
+    if (settings.spp < 1) throw UsageError("--spp must be at least 1");
+    if (!(radius > 0.0f)) throw UsageError("--radius must be positive");
+    ReferenceFrame out;
+    out.ao.width = cam.width;
+    out.ao.height = cam.height;
+    out.ao.pixels.assign(std::size_t(cam.width) * std::size_t(cam.height), 1.0f);
+    std::vector<float> stdErr(out.ao.pixels.size(), 0.0f);
+    tbb::combinable<std::uint64_t> background([] { return std::uint64_t(0); });
+    const std::uint32_t frameKey = frameIndex ^ settings.seed;
+
+    tbb::parallel_for(tbb::blocked_range2d<int>(0, cam.height, 8, 0, cam.width, 8), [&](const auto& r) {
+        for (int y = r.rows().begin(); y < r.rows().end(); ++y)
+            for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
+                const glm::vec3 dir = cam.rayDirection(x, y);
+                const RayHit hit = scene.intersect(cam.eye, dir, 0.0f, std::numeric_limits<float>::infinity());
+                const std::size_t i = std::size_t(y) * std::size_t(cam.width) + std::size_t(x);
+                if (!hit.hit) {
+                    ++background.local();
+                    continue;
+                }
+                // Open architecture is two-sided: evaluate the side the camera sees.
+                const glm::vec3 n = glm::dot(hit.normal, dir) > 0.0f ? -hit.normal : hit.normal;
+                const AoEstimate e = ambientOcclusion(scene, cam.eye + hit.t * dir, n, radius, settings,
+                                                      sampling::hashKey(std::uint32_t(x), std::uint32_t(y), frameKey));
+                out.ao.pixels[i] = e.ao;
+                stdErr[i] = e.stdError;
+            }
+        if (progress) progress->advance(std::uint64_t(r.rows().size()) * std::uint64_t(r.cols().size()));
+    });
+
+    const std::uint64_t bg = background.combine(std::plus<>());
+    const std::uint64_t pixels = out.ao.pixels.size();
+    double errSum = 0.0;
+    for (float e : stdErr) errSum += e;
+    out.noise = pixels > bg ? errSum / double(pixels - bg) : 0.0;  // over pixels that show geometry
+    out.backgroundFraction = pixels ? double(bg) / double(pixels) : 0.0;
+    out.aoRays = (pixels - bg) * std::uint64_t(settings.spp);
+    return out;
+}
+
+}  // namespace cubeao

@@ -1,0 +1,57 @@
+// Embree ray-traced ambient occlusion: the ground truth of every quality figure (DESIGN.md §4
+// "What AO means here"): AO_R(p) = 1 − (1/π) ∫ V_R(p, ω) cos θ dω, 1 = open, 0 = fully occluded.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "cubeao/metrics/image.h"
+#include "cubeao/reference/embree_scene.h"
+#include "cubeao/scene/camera_path.h"
+
+namespace cubeao {
+
+class Progress;
+
+enum class Falloff {
+    None,    // V_R = 1 for any hit closer than R
+    Smooth,  // a hit at distance t occludes with weight (1 − (t/R)²)², fading to 0 at R
+};
+Falloff parseFalloff(const std::string& name);  // "none" | "smooth"; UsageError otherwise
+const char* falloffName(Falloff f);
+
+struct AoSettings {
+    float radius = 0.0f;  // world units; 0 = the scene default (2 % of the bounding-box diagonal)
+    int spp = 64;         // rays per pixel or texel
+    Falloff falloff = Falloff::None;
+    std::uint32_t seed = 0;  // changes every pixel's rotation of the sample set
+};
+
+// Occlusion weight of a hit at distance t < radius.
+float occlusionWeight(Falloff falloff, float t, float radius);
+
+struct AoEstimate {
+    float ao = 1.0f;
+    float stdError = 0.0f;  // standard error of `ao` as if the samples were independent (an upper
+                            // bound in practice: the stratified set converges faster)
+};
+
+// AO at surface point p with unit normal n (facing the side to evaluate), `key` choosing the rotation
+// of the sample set (e.g. a pixel or texel id). Deterministic: same inputs, same rays, same answer.
+AoEstimate ambientOcclusion(const EmbreeScene& scene, const glm::vec3& p, const glm::vec3& n, float radius,
+                            const AoSettings& settings, std::uint32_t key);
+
+struct ReferenceFrame {
+    Image ao;                       // 1 = open; pixels that see no geometry are 1
+    double noise = 0.0;             // mean standard error over the pixels that show geometry
+    double backgroundFraction = 0;  // pixels whose primary ray hit nothing
+    std::uint64_t aoRays = 0;
+};
+
+// One camera image, all cores. The key of pixel (x, y) is hashKey(x, y, frame ^ seed).
+ReferenceFrame renderReferenceFrame(const EmbreeScene& scene, const PinholeCamera& camera, float radius,
+                                    const AoSettings& settings, std::uint32_t frameIndex, Progress* progress);
+
+}  // namespace cubeao

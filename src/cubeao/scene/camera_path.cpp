@@ -1,0 +1,139 @@
+#include "cubeao/scene/camera_path.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include "cubeao/core/error.h"
+
+namespace cubeao {
+namespace {
+
+using nlohmann::json;
+
+glm::vec3 readVec3(const json& j, const std::string& where) {
+    if (!j.is_array() || j.size() != 3) throw Error(where + " must be an array of 3 numbers");
+    glm::vec3 v;
+    for (int i = 0; i < 3; ++i) {
+        if (!j[i].is_number()) throw Error(where + " must be an array of 3 numbers");
+        v[i] = j[i].get<float>();
+        if (!std::isfinite(v[i])) throw Error(where + " is not finite");
+    }
+    return v;
+}
+
+template <class T>
+T readOptional(const json& j, const char* key, T fallback, const std::string& src) {
+    if (!j.contains(key)) return fallback;
+    if (!j[key].is_number()) throw Error(src + ": \"" + key + "\" must be a number");
+    return j[key].get<T>();
+}
+
+}  // namespace
+
+PinholeCamera::PinholeCamera(const CameraPath& path, std::size_t frame, int w, int h)
+    : width(w), height(h) {
+    const CameraFrame& f = path.frames.at(frame);
+    eye = f.eye;
+    forward = glm::normalize(f.target - f.eye);
+    right = glm::normalize(glm::cross(forward, path.up));
+    up = glm::cross(right, forward);
+    tanHalfFovY = std::tan(glm::radians(path.fovYDeg) * 0.5f);
+}
+
+glm::vec3 PinholeCamera::rayDirection(int x, int y) const {
+    const float aspect = float(width) / float(height);
+    const float sx = (2.0f * (float(x) + 0.5f) / float(width) - 1.0f) * tanHalfFovY * aspect;
+    const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height)) * tanHalfFovY;
+    return glm::normalize(forward + sx * right + sy * up);
+}
+
+CameraPath parseCameraPath(const std::string& text, const std::string& src) {
+    json j;
+    try {
+        j = json::parse(text);
+    } catch (const json::parse_error& e) {
+        throw Error(src + ": not valid JSON: " + e.what());
+    }
+    if (!j.is_object()) throw Error(src + ": a camera path must be a JSON object");
+    CameraPath p;
+    if (j.contains("scene") && j["scene"].is_string()) p.scene = j["scene"].get<std::string>();
+    if (j.contains("up")) p.up = readVec3(j["up"], src + ": \"up\"");
+    if (glm::length(p.up) == 0.0f) throw Error(src + ": \"up\" is the zero vector");
+    p.up = glm::normalize(p.up);
+    p.fovYDeg = readOptional(j, "fov_y_deg", p.fovYDeg, src);
+    p.width = readOptional(j, "width", p.width, src);
+    p.height = readOptional(j, "height", p.height, src);
+    p.nearPlane = readOptional(j, "near", p.nearPlane, src);
+    p.farPlane = readOptional(j, "far", p.farPlane, src);
+    if (!(p.fovYDeg > 0.0f && p.fovYDeg < 180.0f)) throw Error(src + ": \"fov_y_deg\" must be in (0, 180)");
+    if (p.width <= 0 || p.height <= 0) throw Error(src + ": \"width\" and \"height\" must be positive");
+    if (!(p.nearPlane > 0.0f && p.farPlane > p.nearPlane)) throw Error(src + ": need 0 < near < far");
+    if (!j.contains("frames") || !j["frames"].is_array() || j["frames"].empty())
+        throw Error(src + ": \"frames\" must be a non-empty array");
+    for (std::size_t i = 0; i < j["frames"].size(); ++i) {
+        const json& f = j["frames"][i];
+        const std::string where = src + ": frames[" + std::to_string(i) + "]";
+        if (!f.is_object() || !f.contains("eye") || !f.contains("target"))
+            throw Error(where + " needs \"eye\" and \"target\"");
+        CameraFrame frame{readVec3(f["eye"], where + ".eye"), readVec3(f["target"], where + ".target")};
+        const glm::vec3 fwd = frame.target - frame.eye;
+        if (glm::length(fwd) == 0.0f) throw Error(where + ": eye and target coincide");
+        if (glm::length(glm::cross(glm::normalize(fwd), p.up)) < 1e-6f)
+            throw Error(where + ": looks straight along \"up\" (the view basis is undefined)");
+        p.frames.push_back(frame);
+    }
+    return p;
+}
+
+CameraPath readCameraPath(const std::filesystem::path& file) {
+    std::ifstream in(file);
+    if (!in) throw Error(file.string() + ": cannot open camera path");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parseCameraPath(ss.str(), file.string());
+}
+
+void writeCameraPath(const std::filesystem::path& file, const CameraPath& p) {
+    json frames = json::array();
+    for (const auto& f : p.frames)
+        frames.push_back({{"eye", {f.eye.x, f.eye.y, f.eye.z}}, {"target", {f.target.x, f.target.y, f.target.z}}});
+    const json j = {{"scene", p.scene},   {"up", {p.up.x, p.up.y, p.up.z}}, {"fov_y_deg", p.fovYDeg},
+                    {"width", p.width},   {"height", p.height},          {"near", p.nearPlane},
+                    {"far", p.farPlane},  {"frames", frames}};
+    std::ofstream out(file);
+    if (!out) throw Error(file.string() + ": cannot write camera path");
+    out << j.dump(1) << '\n';
+}
+
+FrameRange parseFrameRange(const std::string& text, std::size_t count) {
+    const auto n = static_cast<long long>(count);
+    auto parseBound = [&](const std::string& s, long long fallback) -> long long {
+        if (s.empty()) return fallback;
+        std::size_t used = 0;
+        long long v = 0;
+        try {
+            v = std::stoll(s, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used != s.size()) throw UsageError("--frames \"" + text + "\": expected A:B with integers");
+        if (v < 0) v += n;
+        return std::clamp(v, 0LL, n);
+    };
+    if (text.empty()) return {0, count};
+    const auto colon = text.find(':');
+    if (colon == std::string::npos) throw UsageError("--frames \"" + text + "\": expected A:B (half-open, like 0:12)");
+    const long long a = parseBound(text.substr(0, colon), 0);
+    const long long b = parseBound(text.substr(colon + 1), n);
+    if (a >= b)
+        throw UsageError("--frames \"" + text + "\" selects no frames (the path has " + std::to_string(count) + ")");
+    return {std::size_t(a), std::size_t(b)};
+}
+
+}  // namespace cubeao

@@ -1,0 +1,134 @@
+#include "cubeao/scene/import.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+
+#include <OpenMesh/Core/IO/IOManager.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+#include <assimp/DefaultLogger.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/LogStream.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <spdlog/spdlog.h>
+
+#include "cubeao/core/error.h"
+#include "cubeao/scene/builtin.h"
+#include "cubeao/scene/repair.h"
+#include "cubeao/scene/soup_importer.h"
+
+namespace cubeao {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string> kOpenMeshExt = {".obj", ".ply", ".off", ".stl"};
+const std::vector<std::string> kAssimpExt = {".ifc", ".gltf", ".glb", ".fbx", ".3ds", ".dae"};
+
+bool contains(const std::vector<std::string>& v, const std::string& s) {
+    return std::find(v.begin(), v.end(), s) != v.end();
+}
+
+std::string lowerExtension(const fs::path& p) {
+    std::string ext = p.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+// OpenMesh's readers (OBJ/PLY/OFF/STL) into a triangle soup. Returns whether the file carried normals.
+bool readWithOpenMesh(const fs::path& path, Scene& scene) {
+    SoupImporter soup;
+    OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexNormal;
+    omerr().disable();  // it prints per-face chatter; failures are reported below
+    const bool ok = OpenMesh::IO::IOManager().read(path.string(), soup, opt);
+    omerr().enable();
+    if (!ok) throw Error(path.string() + ": OpenMesh could not read the file (corrupt or not a mesh of its format)");
+    scene.positions = std::move(soup.positions);
+    scene.indices = std::move(soup.indices);
+    if (soup.hasNormals) scene.normals = std::move(soup.normals);
+    return soup.hasNormals;
+}
+
+// Collects assimp's warnings and errors (IFC imports produce many) into SceneProblems::warnings.
+class WarningCollector : public Assimp::LogStream {
+public:
+    explicit WarningCollector(std::vector<std::string>& out) : out_(out) {}
+    void write(const char* message) override {
+        std::string m(message);
+        while (!m.empty() && (m.back() == '\n' || m.back() == '\r')) m.pop_back();
+        out_.push_back(std::move(m));
+    }
+
+private:
+    std::vector<std::string>& out_;
+};
+
+// assimp (IFC/glTF/FBX/3DS/DAE): all meshes flattened into world space, triangles only.
+bool readWithAssimp(const fs::path& path, Scene& scene) {
+    std::vector<std::string> messages;
+    Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
+    auto* collector = new WarningCollector(messages);  // owned by the logger until detached
+    Assimp::DefaultLogger::get()->attachStream(collector, Assimp::Logger::Warn | Assimp::Logger::Err);
+    Assimp::Importer importer;
+    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    const aiScene* ai = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices |
+                                                             aiProcess_SortByPType);
+    Assimp::DefaultLogger::get()->detachStream(collector, Assimp::Logger::Warn | Assimp::Logger::Err);
+    delete collector;
+    Assimp::DefaultLogger::kill();
+    if (!ai) throw Error(path.string() + ": assimp could not import it: " + importer.GetErrorString());
+
+    bool allNormals = ai->mNumMeshes > 0;
+    for (unsigned m = 0; m < ai->mNumMeshes; ++m) allNormals = allNormals && ai->mMeshes[m]->HasNormals();
+    for (unsigned m = 0; m < ai->mNumMeshes; ++m) {
+        const aiMesh* mesh = ai->mMeshes[m];
+        const auto base = std::uint32_t(scene.positions.size());
+        for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+            const aiVector3D& p = mesh->mVertices[v];
+            scene.positions.emplace_back(p.x, p.y, p.z);
+            if (allNormals) scene.normals.emplace_back(mesh->mNormals[v].x, mesh->mNormals[v].y, mesh->mNormals[v].z);
+        }
+        for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+            const aiFace& face = mesh->mFaces[f];
+            if (face.mNumIndices != 3) continue;  // points and lines: annotation, not geometry
+            for (unsigned k = 0; k < 3; ++k) scene.indices.push_back(base + face.mIndices[k]);
+        }
+    }
+    scene.problems.warnings = std::move(messages);
+    return allNormals;
+}
+
+}  // namespace
+
+std::vector<std::string> supportedExtensions() {
+    std::vector<std::string> all = kOpenMeshExt;
+    all.insert(all.end(), kAssimpExt.begin(), kAssimpExt.end());
+    return all;
+}
+
+Scene loadScene(const std::string& spec) {
+    if (isBuiltinSpec(spec)) return makeBuiltinScene(spec);
+    const fs::path path(spec);
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw Error(spec + ": no such file");
+    if (!fs::is_regular_file(path, ec)) throw Error(spec + ": not a regular file");
+    const std::string ext = lowerExtension(path);
+    Scene scene;
+    scene.source = spec;
+    bool hasNormals = false;
+    if (contains(kOpenMeshExt, ext)) {
+        hasNormals = readWithOpenMesh(path, scene);
+    } else if (contains(kAssimpExt, ext)) {
+        hasNormals = readWithAssimp(path, scene);
+    } else {
+        std::string list;
+        for (const auto& e : supportedExtensions()) list += (list.empty() ? "" : " ") + e;
+        throw Error(spec + ": unknown format '" + ext + "' (supported: " + list + ", or builtin:NAME)");
+    }
+    prepareScene(scene, hasNormals);
+    spdlog::debug("{}: {} triangles, {} vertices", spec, scene.triangleCount(), scene.vertexCount());
+    return scene;
+}
+
+}  // namespace cubeao

@@ -1,0 +1,96 @@
+// An OpenMesh importer that keeps the file's triangles as a soup. OpenMesh's own TriMesh importer
+// builds half-edge connectivity and silently drops every face that would make an edge or vertex
+// non-manifold ("complex edge"): on Sibenik that loses ~500 triangles. Architecture models are
+// non-manifold by nature, so we let OpenMesh's readers parse and keep every face ourselves.
+#pragma once
+
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace cubeao {
+
+class SoupImporter final : public OpenMesh::IO::BaseImporter {
+public:
+    std::vector<glm::vec3> positions, normals;  // normals: one per vertex when the file had them
+    std::vector<std::uint32_t> indices;          // polygons fan-triangulated
+    std::size_t faces = 0;                       // polygons as the file wrote them
+    bool hasNormals = false;
+
+    using VH = OpenMesh::VertexHandle;
+    using HH = OpenMesh::HalfedgeHandle;
+    using FH = OpenMesh::FaceHandle;
+    using EH = OpenMesh::EdgeHandle;
+    using Vec2f = OpenMesh::Vec2f;
+    using Vec3f = OpenMesh::Vec3f;
+    using Vec3d = OpenMesh::Vec3d;
+    using Vec4f = OpenMesh::Vec4f;
+    using Vec3uc = OpenMesh::Vec3uc;
+    using Vec4uc = OpenMesh::Vec4uc;
+    using Status = OpenMesh::Attributes::StatusInfo;
+
+    VH add_vertex(const Vec3f& p) override {
+        positions.emplace_back(p[0], p[1], p[2]);
+        normals.emplace_back(0.0f);
+        return VH(int(positions.size() - 1));
+    }
+    VH add_vertex() override { return add_vertex(Vec3f(0.0f, 0.0f, 0.0f)); }
+    FH add_face(const VHandles& v) override {
+        // Out-of-range handles are kept as they are: validateMesh reports them with the file name.
+        for (std::size_t i = 1; i + 1 < v.size(); ++i)
+            indices.insert(indices.end(), {std::uint32_t(v[0].idx()), std::uint32_t(v[i].idx()),
+                                           std::uint32_t(v[i + 1].idx())});
+        return FH(int(faces++));
+    }
+    void set_normal(VH vh, const Vec3f& n) override {
+        if (vh.idx() < 0 || std::size_t(vh.idx()) >= normals.size()) return;
+        normals[std::size_t(vh.idx())] = glm::vec3(n[0], n[1], n[2]);
+        hasNormals = true;
+    }
+    void set_normal(VH vh, const Vec3d& n) override { set_normal(vh, Vec3f(n)); }
+    void set_point(VH vh, const Vec3f& p) override {
+        if (vh.idx() >= 0 && std::size_t(vh.idx()) < positions.size())
+            positions[std::size_t(vh.idx())] = glm::vec3(p[0], p[1], p[2]);
+    }
+    size_t n_vertices() const override { return positions.size(); }
+    size_t n_faces() const override { return faces; }
+    size_t n_edges() const override { return 0; }
+
+    // Connectivity, colours, texture coordinates and status are of no use to AO.
+    HH add_edge(VH, VH) override { return HH(); }
+    FH add_face(HH) override { return FH(); }
+    void add_face_texcoords(FH, VH, const std::vector<Vec2f>&) override {}
+    void add_face_texcoords(FH, VH, const std::vector<Vec3f>&) override {}
+    void set_face_texindex(FH, int) override {}
+    void set_halfedge(VH, HH) override {}
+    void set_color(VH, const Vec3uc&) override {}
+    void set_color(VH, const Vec4uc&) override {}
+    void set_color(VH, const Vec3f&) override {}
+    void set_color(VH, const Vec4f&) override {}
+    void set_texcoord(VH, const Vec2f&) override {}
+    void set_status(VH, const Status&) override {}
+    void set_next(HH, HH) override {}
+    void set_face(HH, FH) override {}
+    void request_face_texcoords2D() override {}
+    void set_texcoord(HH, const Vec2f&) override {}
+    void set_texcoord(VH, const Vec3f&) override {}
+    void set_texcoord(HH, const Vec3f&) override {}
+    void set_status(HH, const Status&) override {}
+    void set_color(EH, const Vec3uc&) override {}
+    void set_color(EH, const Vec4uc&) override {}
+    void set_color(EH, const Vec3f&) override {}
+    void set_color(EH, const Vec4f&) override {}
+    void set_status(EH, const Status&) override {}
+    void set_normal(FH, const Vec3f&) override {}
+    void set_normal(FH, const Vec3d&) override {}
+    void set_color(FH, const Vec3uc&) override {}
+    void set_color(FH, const Vec4uc&) override {}
+    void set_color(FH, const Vec3f&) override {}
+    void set_color(FH, const Vec4f&) override {}
+    void set_status(FH, const Status&) override {}
+    void add_texture_information(int, std::string) override {}
+};
+
+}  // namespace cubeao

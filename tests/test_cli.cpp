@@ -1,0 +1,80 @@
+// The cubeao binary end to end: exit codes, JSON as the last line, files written (DESIGN.md §5).
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <sys/wait.h>
+
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+    int code = -1;
+    std::string out;
+};
+
+CliRun run(const std::string& args) {
+    const std::string cmd = std::string(CUBEAO_BINARY) + " " + args + " 2>/dev/null";
+    CliRun r;
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return r;
+    std::array<char, 4096> buf{};
+    while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
+    const int status = pclose(p);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+nlohmann::json lastLine(const std::string& out) {
+    std::string s = out;
+    while (!s.empty() && s.back() == '\n') s.pop_back();
+    return nlohmann::json::parse(s.substr(s.rfind('\n') + 1));
+}
+
+struct TempDir {
+    fs::path path = fs::temp_directory_path() / ("cubeao-cli-" + std::to_string(std::random_device{}()));
+    TempDir() { fs::create_directories(path); }
+    ~TempDir() { fs::remove_all(path); }
+};
+
+TEST(Cli, InfoJsonFields) {
+    const CliRun r = run("info builtin:cloister --json");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = lastLine(r.out);
+    for (const char* key : {"triangles", "vertices", "bbox", "problems"}) EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_GT(j["triangles"].get<int>(), 20000);
+}
+
+TEST(Cli, ReferenceWritesFramesNamedByPathIndex) {
+    TempDir dir;
+    const CliRun r = run("reference builtin:box-room --frames 5:7 --width 24 --height 16 --spp 4 --out " +
+                      dir.path.string() + " --json");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = lastLine(r.out);
+    EXPECT_GT(j["rays_per_s"].get<double>(), 0.0);
+    ASSERT_EQ(j["frames"].size(), 2u);
+    EXPECT_EQ(j["frames"][0]["index"].get<int>(), 5);
+    EXPECT_TRUE(fs::exists(dir.path / "ao_0005.exr"));
+    EXPECT_TRUE(fs::exists(dir.path / "ao_0006.png"));
+    EXPECT_FALSE(fs::exists(dir.path / "ao_0000.exr"));
+    // Same frames, same pixels: comparing the run with itself is exact.
+    const CliRun c = run("compare " + dir.path.string() + " " + dir.path.string() + " --json");
+    ASSERT_EQ(c.code, 0) << c.out;
+    EXPECT_EQ(lastLine(c.out)["mae"].get<double>(), 0.0);
+}
+
+TEST(Cli, ExitCodes) {
+    TempDir dir;
+    EXPECT_EQ(run("").code, 2);
+    EXPECT_EQ(run("reference builtin:box-room --frames 7:5 --out " + dir.path.string()).code, 2);
+    EXPECT_EQ(run("reference /no/such/scene.obj --camera x.json --out " + dir.path.string()).code, 1);
+    EXPECT_EQ(run("info builtin:nope").code, 1);
+    EXPECT_EQ(run("reference builtin:box-room --falloff linear --out " + dir.path.string()).code, 2);
+}
+
+}  // namespace

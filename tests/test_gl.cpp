@@ -1,0 +1,374 @@
+// Tests for src/cubeao/gl: the shader preprocessor and clock choice without GL, then context, shaders,
+// handles and timers on a headless EGL context. GL tests skip (with the reason) when no context can be
+// made; they never pass silently.
+#include "cubeao/core/error.h"
+#include "cubeao/gl/context.h"
+#include "cubeao/gl/handles.h"
+#include "cubeao/gl/shader.h"
+#include "cubeao/gl/timer.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <unistd.h>  // getpid, setenv
+
+namespace gl = cubeao::gl;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A fresh directory for include files, removed at the end of the test.
+class TempDir {
+public:
+    TempDir() {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        path_ = fs::temp_directory_path() /
+                ("cubeao_test_gl_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+        fs::remove_all(path_);
+        fs::create_directories(path_);
+    }
+    ~TempDir() { fs::remove_all(path_); }
+    void write(const std::string& name, const std::string& text) const {
+        fs::create_directories((path_ / name).parent_path());
+        std::ofstream(path_ / name) << text;
+    }
+    const fs::path& path() const { return path_; }
+    std::string file(const std::string& name) const { return (path_ / name).lexically_normal().string(); }
+
+private:
+    fs::path path_;
+};
+
+// Sets an environment variable for one scope and restores the previous value.
+class ScopedEnv {
+public:
+    ScopedEnv(const char* name, const std::string& value) : name_(name) {
+        if (const char* old = std::getenv(name)) old_ = old;
+        ::setenv(name, value.c_str(), 1);
+    }
+    ~ScopedEnv() { old_ ? ::setenv(name_, old_->c_str(), 1) : ::unsetenv(name_); }
+
+private:
+    const char* name_;
+    std::optional<std::string> old_;
+};
+
+// The message of the cubeao::Error that fn throws ("" and a test failure if it throws none).
+template <class Fn>
+std::string errorMessage(Fn&& fn) {
+    try {
+        fn();
+    } catch (const cubeao::Error& e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "expected cubeao::Error";
+    return {};
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+    return n;
+}
+
+}  // namespace
+
+// ---- preprocessor (no GL) ------------------------------------------------------------------------
+
+TEST(ShaderPreprocess, DefinesFollowTheVersionLine) {
+    const std::string src = "// leading comment\n#version 450 core\nvoid main() {}\n";
+    const std::string out = gl::preprocessShader(src, "/nonexistent", {{"FOO", "3"}, {"BAR", ""}}, "main.comp");
+    EXPECT_EQ(out,
+              "// leading comment\n#version 450 core\n#define FOO 3\n#define BAR \n#line 3 0\nvoid main() {}\n");
+}
+
+TEST(ShaderPreprocess, NestedIncludesExpandInPlaceWithLineDirectives) {
+    TempDir dir;
+    dir.write("a.glsl", "// a\n#include \"b.glsl\"\nfloat a() { return b(); }\n");
+    dir.write("b.glsl", "float b() { return 1.0; }\n");
+    const std::string src = "#version 450\n#include \"a.glsl\"\r\nvoid main() {}\n";
+    const gl::PreprocessedShader out = gl::preprocessShaderSource(src, dir.path(), {}, "main.comp");
+    EXPECT_EQ(out.text,
+              "#version 450\n#line 2 0\n"
+              "#line 1 1\n// a\n"
+              "#line 1 2\nfloat b() { return 1.0; }\n"
+              "#line 3 1\nfloat a() { return b(); }\n"
+              "#line 3 0\nvoid main() {}\n");
+    EXPECT_EQ(out.sourceNames, (std::vector<std::string>{"main.comp", dir.file("a.glsl"), dir.file("b.glsl")}));
+}
+
+TEST(ShaderPreprocess, EachFileIsIncludedOnce) {
+    TempDir dir;
+    dir.write("a.glsl", "#include \"c.glsl\"\nfloat a;\n");
+    dir.write("b.glsl", "#include \"c.glsl\"\nfloat b;\n");
+    dir.write("c.glsl", "#pragma once\nstruct C { float x; };\n");
+    const std::string src = "#version 450\n#include \"a.glsl\"\n#include \"b.glsl\"\n#include \"a.glsl\"\n";
+    const gl::PreprocessedShader out = gl::preprocessShaderSource(src, dir.path(), {}, "main.comp");
+    EXPECT_EQ(count(out.text, "struct C"), 1u);
+    EXPECT_EQ(count(out.text, "float a;"), 1u);
+    EXPECT_EQ(count(out.text, "float b;"), 1u);
+    EXPECT_EQ(count(out.text, "#pragma once"), 0u);  // C++-style guard dropped; GLSL would warn
+    EXPECT_EQ(out.sourceNames.size(), 4u);           // main, a, c, b
+}
+
+TEST(ShaderPreprocess, MissingIncludeNamesFileAndLine) {
+    TempDir dir;
+    dir.write("a.glsl", "float a;\n#include \"nope.glsl\"\n");
+    const std::string nested = errorMessage([&] {
+        gl::preprocessShader("#version 450\n#include \"a.glsl\"\n", dir.path(), {}, "main.comp");
+    });
+    EXPECT_NE(nested.find(dir.file("a.glsl") + ":2:"), std::string::npos) << nested;
+    EXPECT_NE(nested.find("\"nope.glsl\""), std::string::npos) << nested;
+
+    const std::string direct = errorMessage([&] {
+        gl::preprocessShader("#version 450\n\n#include \"gone.glsl\"\n", dir.path(), {}, "main.comp");
+    });
+    EXPECT_NE(direct.find("main.comp:3:"), std::string::npos) << direct;
+    EXPECT_NE(direct.find("\"gone.glsl\""), std::string::npos) << direct;
+}
+
+TEST(ShaderPreprocess, IncludeCycleIsAnError) {
+    TempDir dir;
+    dir.write("a.glsl", "#include \"b.glsl\"\n");
+    dir.write("b.glsl", "\n#include \"a.glsl\"\n");
+    const std::string msg = errorMessage([&] {
+        gl::preprocessShader("#version 450\n#include \"a.glsl\"\n", dir.path(), {}, "main.comp");
+    });
+    EXPECT_NE(msg.find(dir.file("b.glsl") + ":2:"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("cycle: a.glsl -> b.glsl -> a.glsl"), std::string::npos) << msg;
+}
+
+TEST(ShaderPreprocess, RejectsMissingVersionBadDefinesAndNestedVersion) {
+    TempDir dir;
+    dir.write("v.glsl", "#version 450\n");
+    EXPECT_NE(errorMessage([] { gl::preprocessShader("void main() {}\n", "", {}, "x.comp"); }).find("x.comp: no #version"),
+              std::string::npos);
+    EXPECT_NE(errorMessage([] { gl::preprocessShader("#version 450\n", "", {{"1X", "2"}}, "x.comp"); }).find("'1X'"),
+              std::string::npos);
+    EXPECT_NE(errorMessage([] { gl::preprocessShader("#version 450\n", "", {{"X", "1\n2"}}, "x.comp"); })
+                  .find("spans lines"),
+              std::string::npos);
+    EXPECT_NE(errorMessage([&] { gl::preprocessShader("#version 450\n#include \"v.glsl\"\n", dir.path(), {}, "x.comp"); })
+                  .find(dir.file("v.glsl") + ":1: #version in an included file"),
+              std::string::npos);
+}
+
+TEST(ShaderPreprocess, MapLogReplacesSourceIdsWithNames) {
+    const gl::PreprocessedShader pre{"", {"main.comp", "common/x.glsl"}};
+    EXPECT_EQ(pre.mapLog("0:12(5): error: foo\n1:3(1): error: bar\n7:1(1): unknown id\n"),
+              "main.comp:12(5): error: foo\ncommon/x.glsl:3(1): error: bar\n7:1(1): unknown id\n");
+    EXPECT_EQ(pre.mapLog("1(3) : error C0000: nvidia style"), "common/x.glsl(3) : error C0000: nvidia style\n");
+    EXPECT_EQ(pre.mapLog("ERROR: 0:4: amd style"), "ERROR: main.comp:4: amd style\n");
+}
+
+// ---- clock choice and platform names (no GL) ------------------------------------------------------
+
+TEST(GpuTimer, TrustsWallClockOnlyOnSoftwareRenderers) {
+    EXPECT_EQ(gl::trustedClock("llvmpipe (LLVM 15.0.6, 256 bits)"), gl::GpuClock::WallClock);
+    EXPECT_EQ(gl::trustedClock("NVIDIA H100 80GB HBM3/PCIe/SSE2"), gl::GpuClock::TimerQuery);
+    EXPECT_EQ(gl::trustedClock(""), gl::GpuClock::TimerQuery);
+}
+
+TEST(HeadlessContext, UnknownPlatformVariableIsReported) {
+    EXPECT_EQ(gl::parseEglPlatform("device"), gl::EglPlatform::Device);
+    EXPECT_EQ(gl::parseEglPlatform("surfaceless"), gl::EglPlatform::Surfaceless);
+    EXPECT_EQ(gl::parseEglPlatform("x11"), std::nullopt);
+    ScopedEnv env("CUBEAO_EGL_PLATFORM", "bogus");
+    std::string why;
+    EXPECT_FALSE(gl::HeadlessContext::tryCreate(&why).has_value());
+    EXPECT_NE(why.find("CUBEAO_EGL_PLATFORM='bogus'"), std::string::npos) << why;
+}
+
+// ---- with a GL context ------------------------------------------------------------------------
+
+class GlTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() { context_ = gl::HeadlessContext::tryCreate(&whyNot_); }
+    static void TearDownTestSuite() { context_.reset(); }
+    void SetUp() override {
+        if (!context_) GTEST_SKIP() << "no headless GL context: " << whyNot_;
+        context_->makeCurrent();
+    }
+
+    static std::optional<gl::HeadlessContext> context_;
+    static std::string whyNot_;
+};
+
+std::optional<gl::HeadlessContext> GlTest::context_;
+std::string GlTest::whyNot_;
+
+TEST_F(GlTest, ContextIsGl45Core) {
+    EXPECT_GE(context_->majorVersion() * 10 + context_->minorVersion(), 45);
+    GLint profile = 0;
+    glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
+    EXPECT_TRUE(profile & GL_CONTEXT_CORE_PROFILE_BIT);
+    EXPECT_EQ(context_->renderer(), reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
+    EXPECT_FALSE(context_->platformName().empty());
+    EXPECT_TRUE(context_->debugOutput());
+    std::printf("[ info     ] %s on %s, GL %s\n", context_->renderer().c_str(), context_->platformName().c_str(),
+                context_->version().c_str());
+}
+
+TEST_F(GlTest, SecondContextOnTheSameDisplayLeavesTheFirstUsable) {
+    gl::ContextSettings settings;
+    settings.platform = context_->platform();
+    {
+        const gl::HeadlessContext second = gl::HeadlessContext::create(settings);
+        EXPECT_EQ(second.platform(), context_->platform());
+    }
+    context_->makeCurrent();  // the display must still be initialised
+    EXPECT_NE(glGetString(GL_RENDERER), nullptr);
+    EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+TEST_F(GlTest, ComputeShaderWithIncludeAndDefineFillsSsbo) {
+    constexpr GLuint kCount = 64;
+    // kPi comes from shaders/common/constants.glsl (default include dir), OFFSET from the defines.
+    const std::string src = R"(#version 450 core
+#include "constants.glsl"
+layout(local_size_x = 16) in;
+layout(std430, binding = 0) writeonly buffer Out { float values[]; };
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    values[i] = kPi * float(i + OFFSET);
+})";
+    const gl::Program program = gl::buildProgram({{GL_COMPUTE_SHADER, src, "fill_test.comp"}}, {{"OFFSET", "7u"}});
+    const gl::Buffer buffer = gl::Buffer::create();
+    glNamedBufferStorage(buffer.id(), kCount * sizeof(float), nullptr, 0);
+    glUseProgram(program.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer.id());
+    glDispatchCompute(kCount / 16, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<float> values(kCount, -1.0f);
+    glGetNamedBufferSubData(buffer.id(), 0, kCount * sizeof(float), values.data());
+    ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+    // One correctly rounded float multiply on both sides: equal to the last bit.
+    for (GLuint i = 0; i < kCount; ++i) EXPECT_EQ(values[i], 3.14159265358979323846f * float(i + 7)) << "i=" << i;
+}
+
+TEST_F(GlTest, FragmentPassIntoFramebufferReadsBack) {
+    constexpr int kSize = 4;
+    const std::string vs = R"(#version 450 core
+void main() {  // one triangle covering the viewport
+    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+})";
+    const std::string fs = R"(#version 450 core
+layout(location = 0) out vec4 color;
+void main() { color = vec4(gl_FragCoord.xy / float(SIZE), BLUE, 1.0); })";
+    const gl::Program program = gl::buildProgram(
+        {{GL_VERTEX_SHADER, vs, "fullscreen_test.vert"}, {GL_FRAGMENT_SHADER, fs, "coord_test.frag"}},
+        {{"SIZE", std::to_string(kSize)}, {"BLUE", "0.25"}});
+    const gl::Texture target = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(target.id(), 1, GL_RGBA32F, kSize, kSize);
+    const gl::Framebuffer fbo = gl::Framebuffer::create();
+    glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT0, target.id(), 0);
+    ASSERT_EQ(glCheckNamedFramebufferStatus(fbo.id(), GL_FRAMEBUFFER), static_cast<GLenum>(GL_FRAMEBUFFER_COMPLETE));
+    const gl::VertexArray vao = gl::VertexArray::create();  // core profile draws need a bound VAO
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+    glViewport(0, 0, kSize, kSize);
+    glUseProgram(program.id());
+    glBindVertexArray(vao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+
+    std::vector<float> pixels(kSize * kSize * 4, -1.0f);
+    glGetTextureImage(target.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(pixels.size() * sizeof(float)),
+                      pixels.data());
+    ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+            const float* p = &pixels[(y * kSize + x) * 4];  // pixel centres: exact in binary
+            EXPECT_EQ(p[0], (x + 0.5f) / kSize);
+            EXPECT_EQ(p[1], (y + 0.5f) / kSize);
+            EXPECT_EQ(p[2], 0.25f);
+            EXPECT_EQ(p[3], 1.0f);
+        }
+}
+
+TEST_F(GlTest, HandlesDeleteTheirObjectOnceAfterMoves) {
+    gl::Buffer a = gl::Buffer::create();
+    const GLuint id = a.id();
+    ASSERT_NE(id, 0u);
+    EXPECT_TRUE(glIsBuffer(id));
+    {
+        gl::Buffer b = std::move(a);
+        EXPECT_EQ(a.id(), 0u);  // NOLINT(bugprone-use-after-move): moved-from handles are empty
+        EXPECT_EQ(b.id(), id);
+        EXPECT_TRUE(glIsBuffer(id));
+    }
+    EXPECT_FALSE(glIsBuffer(id));
+
+    gl::Texture first = gl::Texture::create(GL_TEXTURE_2D);
+    gl::Texture second = gl::Texture::create(GL_TEXTURE_2D);
+    const GLuint firstId = first.id(), secondId = second.id();
+    first = std::move(second);  // the object first owned is deleted, second's moves over
+    EXPECT_FALSE(glIsTexture(firstId));
+    EXPECT_TRUE(glIsTexture(secondId));
+    EXPECT_EQ(first.id(), secondId);
+    first.reset();
+    EXPECT_FALSE(glIsTexture(secondId));
+}
+
+TEST_F(GlTest, TimerReportsNonNegativeTimes) {
+    const std::string src = "#version 450 core\nlayout(local_size_x = 8) in;\nvoid main() {}\n";
+    const gl::Program program = gl::buildProgram({{GL_COMPUTE_SHADER, src, "empty_test.comp"}});
+    const gl::GpuTime t = gl::timeGpu([&] {
+        glUseProgram(program.id());
+        glDispatchCompute(4, 1, 1);
+    });
+    EXPECT_GE(t.queryMs, 0.0);
+    EXPECT_GE(t.wallMs, 0.0);
+    EXPECT_GE(t.ms(), 0.0);
+    EXPECT_EQ(t.trusted, gl::trustedClock(context_->renderer()));
+
+    gl::TimerQuery query;
+    query.begin();
+    query.end();
+    EXPECT_GE(query.elapsedMs(), 0.0);
+    EXPECT_TRUE(query.ready());
+}
+
+TEST_F(GlTest, CompileErrorNamesTheFileAndLine) {
+    const std::string src = "#version 450 core\nlayout(local_size_x = 1) in;\nvoid main() { undefined_call(); }\n";
+    const std::string msg =
+        errorMessage([&] { (void)gl::buildProgram({{GL_COMPUTE_SHADER, src, "broken_test.comp"}}); });
+    EXPECT_NE(msg.find("broken_test.comp:3"), std::string::npos) << msg;
+
+    // An error inside an include is reported against the include, at its own line number.
+    TempDir dir;
+    dir.write("bad.glsl", "// line 1\nfloat f() { return not_declared; }\n");
+    const std::string withInclude = "#version 450 core\n#include \"bad.glsl\"\nlayout(local_size_x = 1) in;\n"
+                                    "void main() {}\n";
+    const std::string msg2 = errorMessage(
+        [&] { (void)gl::buildProgram({{GL_COMPUTE_SHADER, withInclude, "main_test.comp"}}, {}, dir.path()); });
+    EXPECT_NE(msg2.find(dir.file("bad.glsl") + ":2"), std::string::npos) << msg2;
+}
+
+TEST_F(GlTest, ProgramsLoadFromTheShaderDirectoryVariable) {
+    TempDir dir;
+    dir.write("common/answer.glsl", "const uint kAnswer = 42u;\n");
+    dir.write("answer.comp", "#version 450 core\n#include \"answer.glsl\"\nlayout(local_size_x = 1) in;\n"
+                             "layout(std430, binding = 0) buffer Out { uint value; };\nvoid main() { value = kAnswer; }\n");
+    ScopedEnv env("CUBEAO_SHADER_DIR", dir.path().string());
+    const gl::Program program = gl::compileComputeProgram("answer.comp");
+    const gl::Buffer buffer = gl::Buffer::create();
+    glNamedBufferStorage(buffer.id(), sizeof(GLuint), nullptr, 0);
+    glUseProgram(program.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer.id());
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    GLuint value = 0;
+    glGetNamedBufferSubData(buffer.id(), 0, sizeof value, &value);
+    EXPECT_EQ(value, 42u);
+
+    const std::string missing = errorMessage([] { (void)gl::compileComputeProgram("no_such.comp"); });
+    EXPECT_NE(missing.find((dir.path() / "no_such.comp").string()), std::string::npos) << missing;
+}

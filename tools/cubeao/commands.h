@@ -1,0 +1,18 @@
+// Subcommands of the `cubeao` CLI (DESIGN.md §5). Each add* function registers one subcommand on
+// the app; its callback throws cubeao::Error (exit 1) or cubeao::UsageError (exit 2) on failure and,
+// with --json, prints exactly one JSON object as the last line of stdout through printJson().
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+namespace cubeao::cli {
+
+void addInfo(CLI::App& app);
+void addReference(CLI::App& app);
+void addCompare(CLI::App& app);
+
+// Prints `j` compactly on one line to stdout (the last line a --json command prints).
+void printJson(const nlohmann::json& j);
+
+}  // namespace cubeao::cli

@@ -1,0 +1,40 @@
+// cubeao: one binary with subcommands (DESIGN.md §5). Exit codes: 0 done, 1 failed, 2 bad usage.
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <iostream>
+
+#include "commands.h"
+#include "cubeao/core/error.h"
+
+namespace cubeao::cli {
+void printJson(const nlohmann::json& j) {
+    std::cout << j.dump() << std::endl;
+}
+}  // namespace cubeao::cli
+
+int main(int argc, char** argv) {
+    spdlog::set_default_logger(spdlog::stderr_color_mt("cubeao"));  // stdout is for results and JSON
+    spdlog::set_pattern("%^%l%$: %v");
+    CLI::App app{"cubeao: ambient occlusion cached in cube-map probes"};
+    app.require_subcommand(1);
+    bool verbose = false;
+    app.add_flag("-v,--verbose", verbose, "Debug logging");
+    app.parse_complete_callback([&] { spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info); });
+    cubeao::cli::addInfo(app);
+    cubeao::cli::addReference(app);
+    cubeao::cli::addCompare(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
+    } catch (const cubeao::UsageError& e) {
+        std::fprintf(stderr, "cubeao: usage: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "cubeao: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
