@@ -199,13 +199,26 @@ TEST(CameraPathParse, InvalidJson) {
         const std::string msg = errorMessage([&] { parseCameraPath(text, "bad.json"); });
         EXPECT_TRUE(contains(msg, "bad.json: not valid JSON")) << text << " -> " << msg;
     }
-    // A number too big for a double is a JSON error too, and must not escape as a library exception.
-    const std::string huge = errorMessage([] {
-        parseCameraPath(R"({"fov_y_deg": 1e400, "frames": [{"eye": [0, 0, 0], "target": [1, 0, 0]}]})", "huge.json");
-    });
-    EXPECT_TRUE(contains(huge, "huge.json")) << huge;
     const std::string msg = errorMessage([] { parseCameraPath("[1, 2, 3]", "array.json"); });
     EXPECT_TRUE(contains(msg, "array.json: a camera path must be a JSON object")) << msg;
+}
+
+// BUG (reported, not fixed here): nlohmann reports a number too big for a double (1e400) as
+// json::out_of_range (406), not json::parse_error, so it escapes parseCameraPath as a library
+// exception without the file name instead of a cubeao::Error naming the source.
+TEST(CameraPathParse, NumberTooBigForADoubleIsAnError) {
+    const std::string msg = errorMessage([] {
+        try {
+            parseCameraPath(R"({"fov_y_deg": 1e400, "frames": [{"eye": [0, 0, 0], "target": [1, 0, 0]}]})",
+                            "huge.json");
+        } catch (const Error&) {
+            throw;
+        } catch (const std::exception& e) {
+            ADD_FAILURE() << "escaped as a non-cubeao exception: " << e.what();
+            throw Error("");
+        }
+    });
+    EXPECT_TRUE(contains(msg, "huge.json")) << msg;
 }
 
 // ---- files ---------------------------------------------------------------------------------------

@@ -372,3 +372,34 @@ TEST_F(GlTest, ProgramsLoadFromTheShaderDirectoryVariable) {
     const std::string missing = errorMessage([] { (void)gl::compileComputeProgram("no_such.comp"); });
     EXPECT_NE(missing.find((dir.path() / "no_such.comp").string()), std::string::npos) << missing;
 }
+
+// ---- GLFW window context (viewer) --------------------------------------------------------------
+#include "cubeao/gl/window.h"
+
+namespace cubeao::gl {
+namespace {
+
+TEST(GlWindow, ClearsAndReadsBackTheDefaultFramebuffer) {
+    if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
+        GTEST_SKIP() << "no window system (DISPLAY unset); run under xvfb-run to test the viewer window";
+    std::string why;
+    auto window = WindowContext::tryCreate(64, 48, "cubeao test", &why);
+    if (!window) GTEST_SKIP() << "no 4.5 core window context: " << why;
+    int w = 0, h = 0;
+    window->framebufferSize(w, h);
+    EXPECT_EQ(w, 64);
+    EXPECT_EQ(h, 48);
+    glClearColor(0.25f, 0.5f, 0.75f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    std::uint8_t px[4] = {};
+    glReadPixels(w / 2, h / 2, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, px);
+    EXPECT_NEAR(px[0], 64, 1);
+    EXPECT_NEAR(px[1], 128, 1);
+    EXPECT_NEAR(px[2], 191, 1);
+    WindowContext moved = std::move(*window);
+    EXPECT_NE(moved.window(), nullptr);
+    EXPECT_FALSE(moved.shouldClose());
+}
+
+}  // namespace
+}  // namespace cubeao::gl

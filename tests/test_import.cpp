@@ -397,11 +397,10 @@ TEST(ImportErrors, NonFiniteCoordinatesNeverLoadAsNonFinite) {
     EXPECT_TRUE(contains(msg, path)) << msg;
 }
 
-// BUG (reported, not fixed here): OpenMesh's OBJ reader silently skips a `v` line it cannot parse,
-// so every later vertex index shifts by one and faces silently use the wrong vertices. Here the
-// triangle 1-3-4 means (0,0,0) (1,0,0) (0,1,0); loadScene returns (0,0,0) (0,1,0) (0,0,1) without an
-// error. Enable when import.cpp detects the mismatch (e.g. by counting `v` lines).
-TEST(ImportObj, DISABLED_UnparsableVertexDoesNotShiftLaterIndices) {
+// OpenMesh's OBJ reader silently skips a `v` line it cannot parse, so every later vertex index would
+// shift by one and faces would use the wrong vertices: the triangle 1-3-4 means (0,0,0) (1,0,0)
+// (0,1,0), never (0,0,0) (0,1,0) (0,0,1). import.cpp scans text files for such numbers first.
+TEST(ImportObj, UnparsableVertexDoesNotShiftLaterIndices) {
     TempDir dir;
     const std::string path = dir.write("shift.obj", "v 0 0 0\nv nan 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 4\n");
     try {
@@ -413,11 +412,9 @@ TEST(ImportObj, DISABLED_UnparsableVertexDoesNotShiftLaterIndices) {
     }
 }
 
-// BUG (reported, not fixed here): OBJ normals belong to face corners (`f v//vn`), but SoupImporter
-// stores one normal per position and the last corner written wins, so a hard edge whose two faces
-// share positions but not normals gets the second face's normal on the first face's corners.
-// Expected: each triangle's corners carry its own `vn` (the vertices split by normal).
-TEST(ImportObj, DISABLED_CornerNormalsOfSharedPositionsAreKept) {
+// OBJ normals belong to face corners (`f v//vn`): a hard edge whose two faces share positions but not
+// normals must keep each face's own normal (SoupImporter splits the vertex), not the last one written.
+TEST(ImportObj, CornerNormalsOfSharedPositionsAreKept) {
     TempDir dir;
     const std::string path = dir.write("hard.obj",
                                        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 1 0 -1\nvn 0 0 1\nvn 1 0 0\n"

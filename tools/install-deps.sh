@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config python3
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri   # headless GL on Mesa (llvmpipe)
+  libglfw3-dev xvfb xauth                                           # viewer window; tested under Xvfb
   libglm-dev libopenmesh-dev libassimp-dev assimp-testmodels
   libembree-dev libtbb-dev
   libopenimageio-dev openimageio-tools   # OIIO's CMake config insists on its tools being installed

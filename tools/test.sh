@@ -6,4 +6,9 @@ cd "$(dirname "$0")/.."
 bash tools/install-deps.sh
 bash tools/build.sh
 cd build
-ctest --output-on-failure -j2 --timeout 600
+# The viewer's window test needs an X server; without one, run the suite under a virtual one (Xvfb).
+if [ -z "${DISPLAY:-}" ] && command -v xvfb-run >/dev/null; then
+  xvfb-run -a -s "-screen 0 640x480x24" ctest --output-on-failure -j2 --timeout 600
+else
+  ctest --output-on-failure -j2 --timeout 600
+fi

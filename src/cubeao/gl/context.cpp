@@ -112,19 +112,6 @@ void APIENTRY onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum sever
     spdlog::log(level, "GL {} #{}: {}", debugTypeName(type), id, text);
 }
 
-void installDebugOutput(bool debugContext) {
-    glEnable(GL_DEBUG_OUTPUT);
-    // Synchronous delivery logs a message before the offending call returns, so the log lines up with
-    // the code; only worth it where the driver validates anyway (a debug context).
-    if (debugContext) glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
-    glDebugMessageCallback(onDebugMessage, nullptr);
-    // Notifications (buffer placement, push/pop group echoes) would drown everything else.
-    glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DEBUG_SEVERITY_NOTIFICATION, 0, nullptr, GL_FALSE);
-    // Compile errors are thrown by the shader loader with source-string ids mapped to file names;
-    // the driver's copy would repeat them with bare ids.
-    glDebugMessageControl(GL_DEBUG_SOURCE_SHADER_COMPILER, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr, GL_FALSE);
-}
-
 // ---- one display ------------------------------------------------------------------------------
 
 EGLConfig chooseConfig(EGLDisplay dpy, const char* exts, bool* ok) {
@@ -267,6 +254,19 @@ std::optional<EglPlatform> requestedPlatform(const ContextSettings& settings, st
 }
 
 }  // namespace
+
+void installDebugOutput(bool debugContext) {
+    glEnable(GL_DEBUG_OUTPUT);
+    // Synchronous delivery logs a message before the offending call returns, so the log lines up with
+    // the code; only worth it where the driver validates anyway (a debug context).
+    if (debugContext) glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+    glDebugMessageCallback(onDebugMessage, nullptr);
+    // Notifications (buffer placement, push/pop group echoes) would drown everything else.
+    glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DEBUG_SEVERITY_NOTIFICATION, 0, nullptr, GL_FALSE);
+    // Compile errors are thrown by the shader loader with source-string ids mapped to file names;
+    // the driver's copy would repeat them with bare ids.
+    glDebugMessageControl(GL_DEBUG_SOURCE_SHADER_COMPILER, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr, GL_FALSE);
+}
 
 // Fills a HeadlessContext from a display that just gave a current context.
 struct ContextBuilder {

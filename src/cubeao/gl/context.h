@@ -68,6 +68,10 @@ private:
     bool debugOutput_ = false;
 };
 
+// Routes GL debug output of the current context to spdlog (errors → error, performance → debug;
+// notifications and the shader compiler's own messages off). Called for every context we create.
+void installDebugOutput(bool debugContext);
+
 // Parses CUBEAO_EGL_PLATFORM-style text ("device", "surfaceless"); nullopt for anything else.
 std::optional<EglPlatform> parseEglPlatform(const std::string& text);
 

@@ -57,7 +57,7 @@ CameraPath parseCameraPath(const std::string& text, const std::string& src) {
     json j;
     try {
         j = json::parse(text);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // parse errors, and numbers too big for a double
         throw Error(src + ": not valid JSON: " + e.what());
     }
     if (!j.is_object()) throw Error(src + ": a camera path must be a JSON object");

@@ -1,8 +1,13 @@
 #include "cubeao/scene/import.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
+#include <sstream>
 
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/System/omstream.hh>
@@ -36,14 +41,55 @@ std::string lowerExtension(const fs::path& p) {
     return ext;
 }
 
+// OpenMesh's text readers skip a number they cannot parse ("nan", "inf", "1e999") without a word: an
+// OBJ `v` line vanishes and every later index shifts; the OFF and PLY readers go on with uninitialised
+// values. So text files are scanned first, and a non-finite number is an error with its line.
+bool isTextMesh(const fs::path& path, const std::string& ext) {
+    if (ext == ".obj") return true;
+    std::ifstream in(path, std::ios::binary);
+    std::string head(512, '\0');
+    in.read(head.data(), std::streamsize(head.size()));
+    head.resize(std::size_t(in.gcount()));
+    if (ext == ".ply") return head.find("format ascii") != std::string::npos;
+    if (ext == ".off") return head.find("BINARY") == std::string::npos;
+    return head.rfind("solid", 0) == 0 && head.find("facet") != std::string::npos;  // ASCII STL
+}
+
+// Returns the number of OBJ `v` lines (0 for other formats).
+std::size_t scanTextMesh(const fs::path& path, const std::string& ext) {
+    std::ifstream in(path);
+    std::string line, token;
+    std::size_t lineNo = 0, vertexLines = 0;
+    while (std::getline(in, line)) {
+        ++lineNo;
+        if (ext == ".obj" && line.rfind("v ", 0) == 0) ++vertexLines;
+        std::istringstream words(line);
+        while (words >> token) {
+            const char c = char(std::tolower(static_cast<unsigned char>(token[0])));
+            if (!(c == 'n' || c == 'i' || c == '-' || c == '+' || c == '.' || std::isdigit(static_cast<unsigned char>(c))))
+                continue;
+            char* end = nullptr;
+            const double v = std::strtod(token.c_str(), &end);
+            if (end != token.c_str() && *end == '\0' && !std::isfinite(v))
+                throw Error(path.string() + ":" + std::to_string(lineNo) + ": non-finite number '" + token + "'");
+        }
+    }
+    return vertexLines;
+}
+
 // OpenMesh's readers (OBJ/PLY/OFF/STL) into a triangle soup. Returns whether the file carried normals.
 bool readWithOpenMesh(const fs::path& path, Scene& scene) {
+    const std::string ext = lowerExtension(path);
+    const std::size_t objVertexLines = isTextMesh(path, ext) ? scanTextMesh(path, ext) : 0;
     SoupImporter soup;
     OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexNormal;
     omerr().disable();  // it prints per-face chatter; failures are reported below
     const bool ok = OpenMesh::IO::IOManager().read(path.string(), soup, opt);
     omerr().enable();
     if (!ok) throw Error(path.string() + ": OpenMesh could not read the file (corrupt or not a mesh of its format)");
+    if (ext == ".obj" && soup.fileVertices() != objVertexLines)
+        throw Error(path.string() + ": " + std::to_string(objVertexLines - soup.fileVertices()) + " of " +
+                    std::to_string(objVertexLines) + " vertex lines could not be read (faces would use wrong vertices)");
     scene.positions = std::move(soup.positions);
     scene.indices = std::move(soup.indices);
     if (soup.hasNormals) scene.normals = std::move(soup.normals);

@@ -6,6 +6,7 @@
 
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 
+#include <unordered_map>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -39,22 +40,43 @@ public:
     VH add_vertex() override { return add_vertex(Vec3f(0.0f, 0.0f, 0.0f)); }
     FH add_face(const VHandles& v) override {
         // Out-of-range handles are kept as they are: validateMesh reports them with the file name.
+        auto index = [&](VH h) {
+            const auto it = cornerSplit_.find(h.idx());
+            return std::uint32_t(it == cornerSplit_.end() ? h.idx() : it->second);
+        };
         for (std::size_t i = 1; i + 1 < v.size(); ++i)
-            indices.insert(indices.end(), {std::uint32_t(v[0].idx()), std::uint32_t(v[i].idx()),
-                                           std::uint32_t(v[i + 1].idx())});
+            indices.insert(indices.end(), {index(v[0]), index(v[i]), index(v[i + 1])});
+        cornerSplit_.clear();
         return FH(int(faces++));
     }
+    // OBJ normals belong to face corners: the reader sets each corner's normal on the vertex just
+    // before add_face. A vertex that already has a different normal (a hard edge) is split: the face
+    // gets a copy of the position carrying its own normal.
     void set_normal(VH vh, const Vec3f& n) override {
         if (vh.idx() < 0 || std::size_t(vh.idx()) >= normals.size()) return;
-        normals[std::size_t(vh.idx())] = glm::vec3(n[0], n[1], n[2]);
+        const auto i = std::size_t(vh.idx());
+        const glm::vec3 normal(n[0], n[1], n[2]);
+        if (normalSet_.size() < normals.size()) normalSet_.resize(normals.size(), false);
+        if (normalSet_[i] && normals[i] != normal) {
+            positions.push_back(positions[i]);
+            normals.push_back(normal);
+            normalSet_.push_back(true);
+            cornerSplit_[vh.idx()] = int(positions.size() - 1);
+            ++copies_;
+        } else {
+            normals[i] = normal;
+            normalSet_[i] = true;
+        }
         hasNormals = true;
     }
+    // Vertices the file wrote (`v` lines), without the copies made for split corners.
+    std::size_t fileVertices() const { return positions.size() - splitCopies(); }
     void set_normal(VH vh, const Vec3d& n) override { set_normal(vh, Vec3f(n)); }
     void set_point(VH vh, const Vec3f& p) override {
         if (vh.idx() >= 0 && std::size_t(vh.idx()) < positions.size())
             positions[std::size_t(vh.idx())] = glm::vec3(p[0], p[1], p[2]);
     }
-    size_t n_vertices() const override { return positions.size(); }
+    size_t n_vertices() const override { return positions.size() - splitCopies(); }
     size_t n_faces() const override { return faces; }
     size_t n_edges() const override { return 0; }
 
@@ -91,6 +113,12 @@ public:
     void set_color(FH, const Vec4f&) override {}
     void set_status(FH, const Status&) override {}
     void add_texture_information(int, std::string) override {}
+
+private:
+    std::size_t splitCopies() const { return copies_; }
+    std::vector<bool> normalSet_;
+    std::unordered_map<int, int> cornerSplit_;  // this face's corners: vertex → its split copy
+    std::size_t copies_ = 0;
 };
 
 }  // namespace cubeao
