@@ -2,13 +2,9 @@
 // with every field checked, errors that name the source and the field, and the pinhole's ray
 // directions against the closed-form angles of the README's view basis.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <ostream>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -18,32 +14,13 @@
 
 #include "cubeao/core/error.h"
 #include "cubeao/scene/camera_path.h"
+#include "test_util.h"
 
 namespace fs = std::filesystem;
 using namespace cubeao;
-
-namespace glm {
-// Readable failure messages for EXPECT_EQ on vectors (found by argument-dependent lookup).
-inline void PrintTo(const vec3& v, std::ostream* os) { *os << "(" << v.x << ", " << v.y << ", " << v.z << ")"; }
-}  // namespace glm
+using namespace cubeao::test;
 
 namespace {
-
-// The message of the cubeao::Error `f` throws, or "" (and a test failure) when it does not throw.
-template <class F>
-std::string errorMessage(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "expected cubeao::Error, nothing was thrown";
-    return "";
-}
-
-bool contains(const std::string& haystack, const std::string& needle) {
-    return haystack.find(needle) != std::string::npos;
-}
 
 void expectVec3Near(const glm::vec3& actual, const glm::vec3& expected, float tol) {
     EXPECT_NEAR(actual.x, expected.x, tol);
@@ -224,10 +201,7 @@ TEST(CameraPathParse, NumberTooBigForADoubleIsAnError) {
 // ---- files ---------------------------------------------------------------------------------------
 
 TEST(CameraPathFile, WriteThenReadRoundTrips) {
-    std::random_device rd;
-    const fs::path dir =
-        fs::temp_directory_path() / ("cubeao-test-" + std::to_string(::getpid()) + "-" + std::to_string(rd()));
-    fs::create_directories(dir);
+    const TempDir dir;
     CameraPath p;
     p.scene = "cloister";
     p.up = glm::normalize(glm::vec3(0.1f, 1.0f, -0.2f));
@@ -240,7 +214,6 @@ TEST(CameraPathFile, WriteThenReadRoundTrips) {
     const fs::path file = dir / "path.json";
     writeCameraPath(file, p);
     const CameraPath q = readCameraPath(file);
-    fs::remove_all(dir);
 
     EXPECT_EQ(q.scene, p.scene);
     // up is re-normalised on reading: a unit vector may move by an ulp.

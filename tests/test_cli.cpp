@@ -4,14 +4,16 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
-#include <random>
 #include <sys/wait.h>
 
 #include <nlohmann/json.hpp>
 
+#include "test_util.h"
+
 namespace {
 
 namespace fs = std::filesystem;
+using cubeao::test::TempDir;
 
 struct CliRun {
     int code = -1;
@@ -36,12 +38,6 @@ nlohmann::json lastLine(const std::string& out) {
     return nlohmann::json::parse(s.substr(s.rfind('\n') + 1));
 }
 
-struct TempDir {
-    fs::path path = fs::temp_directory_path() / ("cubeao-cli-" + std::to_string(std::random_device{}()));
-    TempDir() { fs::create_directories(path); }
-    ~TempDir() { fs::remove_all(path); }
-};
-
 TEST(Cli, InfoJsonFields) {
     const CliRun r = run("info builtin:cloister --json");
     ASSERT_EQ(r.code, 0) << r.out;
@@ -53,17 +49,17 @@ TEST(Cli, InfoJsonFields) {
 TEST(Cli, ReferenceWritesFramesNamedByPathIndex) {
     TempDir dir;
     const CliRun r = run("reference builtin:box-room --frames 5:7 --width 24 --height 16 --spp 4 --out " +
-                      dir.path.string() + " --json");
+                      dir.path().string() + " --json");
     ASSERT_EQ(r.code, 0) << r.out;
     const auto j = lastLine(r.out);
     EXPECT_GT(j["rays_per_s"].get<double>(), 0.0);
     ASSERT_EQ(j["frames"].size(), 2u);
     EXPECT_EQ(j["frames"][0]["index"].get<int>(), 5);
-    EXPECT_TRUE(fs::exists(dir.path / "ao_0005.exr"));
-    EXPECT_TRUE(fs::exists(dir.path / "ao_0006.png"));
-    EXPECT_FALSE(fs::exists(dir.path / "ao_0000.exr"));
+    EXPECT_TRUE(fs::exists(dir.path() / "ao_0005.exr"));
+    EXPECT_TRUE(fs::exists(dir.path() / "ao_0006.png"));
+    EXPECT_FALSE(fs::exists(dir.path() / "ao_0000.exr"));
     // Same frames, same pixels: comparing the run with itself is exact.
-    const CliRun c = run("compare " + dir.path.string() + " " + dir.path.string() + " --json");
+    const CliRun c = run("compare " + dir.path().string() + " " + dir.path().string() + " --json");
     ASSERT_EQ(c.code, 0) << c.out;
     EXPECT_EQ(lastLine(c.out)["mae"].get<double>(), 0.0);
 }
@@ -71,10 +67,10 @@ TEST(Cli, ReferenceWritesFramesNamedByPathIndex) {
 TEST(Cli, ExitCodes) {
     TempDir dir;
     EXPECT_EQ(run("").code, 2);
-    EXPECT_EQ(run("reference builtin:box-room --frames 7:5 --out " + dir.path.string()).code, 2);
-    EXPECT_EQ(run("reference /no/such/scene.obj --camera x.json --out " + dir.path.string()).code, 1);
+    EXPECT_EQ(run("reference builtin:box-room --frames 7:5 --out " + dir.path().string()).code, 2);
+    EXPECT_EQ(run("reference /no/such/scene.obj --camera x.json --out " + dir.path().string()).code, 1);
     EXPECT_EQ(run("info builtin:nope").code, 1);
-    EXPECT_EQ(run("reference builtin:box-room --falloff linear --out " + dir.path.string()).code, 2);
+    EXPECT_EQ(run("reference builtin:box-room --falloff linear --out " + dir.path().string()).code, 2);
 }
 
 }  // namespace

@@ -6,13 +6,13 @@
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/shader.h"
 #include "cubeao/gl/timer.h"
+#include "test_util.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,30 +21,10 @@
 
 namespace gl = cubeao::gl;
 namespace fs = std::filesystem;
+using cubeao::test::errorMessage;
+using cubeao::test::TempDir;
 
 namespace {
-
-// A fresh directory for include files, removed at the end of the test.
-class TempDir {
-public:
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path_ = fs::temp_directory_path() /
-                ("cubeao_test_gl_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempDir() { fs::remove_all(path_); }
-    void write(const std::string& name, const std::string& text) const {
-        fs::create_directories((path_ / name).parent_path());
-        std::ofstream(path_ / name) << text;
-    }
-    const fs::path& path() const { return path_; }
-    std::string file(const std::string& name) const { return (path_ / name).lexically_normal().string(); }
-
-private:
-    fs::path path_;
-};
 
 // Sets an environment variable for one scope and restores the previous value.
 class ScopedEnv {
@@ -59,18 +39,6 @@ private:
     const char* name_;
     std::optional<std::string> old_;
 };
-
-// The message of the cubeao::Error that fn throws ("" and a test failure if it throws none).
-template <class Fn>
-std::string errorMessage(Fn&& fn) {
-    try {
-        fn();
-    } catch (const cubeao::Error& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "expected cubeao::Error";
-    return {};
-}
 
 std::size_t count(const std::string& text, const std::string& what) {
     std::size_t n = 0;

@@ -2,15 +2,11 @@
 // known triangles, malformed files that must end in a cubeao::Error naming the file (never a crash),
 // the real scenes of ../shared/scenes and assimp-testmodels (skipped when absent) and builtin:NAME.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <ostream>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -21,62 +17,13 @@
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/import.h"
 #include "cubeao/scene/scene.h"
+#include "test_util.h"
 
 namespace fs = std::filesystem;
 using namespace cubeao;
-
-namespace glm {
-// Readable failure messages for EXPECT_EQ on vectors (found by argument-dependent lookup).
-inline void PrintTo(const vec3& v, std::ostream* os) { *os << "(" << v.x << ", " << v.y << ", " << v.z << ")"; }
-}  // namespace glm
+using namespace cubeao::test;
 
 namespace {
-
-// A fresh directory temp_directory_path()/cubeao-test-<random>, removed with its contents at scope exit.
-class TempDir {
-public:
-    TempDir() {
-        std::random_device rd;
-        const std::string name = "cubeao-test-" + std::to_string(::getpid()) + "-" + std::to_string(rd());
-        path_ = fs::temp_directory_path() / name;
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-
-    // Writes `text` to a file `name` in the directory and returns its path as a string.
-    std::string write(const std::string& name, const std::string& text) const {
-        const fs::path p = path_ / name;
-        std::ofstream out(p, std::ios::binary);
-        out << text;
-        return p.string();
-    }
-    const fs::path& path() const { return path_; }
-
-private:
-    fs::path path_;
-};
-
-// The message of the cubeao::Error `f` throws, or "" (and a test failure) when it does not throw.
-template <class F>
-std::string errorMessage(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "expected cubeao::Error, nothing was thrown";
-    return "";
-}
-
-bool contains(const std::string& haystack, const std::string& needle) {
-    return haystack.find(needle) != std::string::npos;
-}
 
 // Triangles as corner positions, each rotated to start at its smallest corner (keeps the winding),
 // sorted: equal for two meshes with the same triangles whatever their vertex and index order.

@@ -1,6 +1,5 @@
 // Metrics and AO image files (src/cubeao/metrics): analytic answers with explicit tolerances.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <array>
 #include <cmath>
@@ -17,34 +16,15 @@
 #include "cubeao/core/error.h"
 #include "cubeao/metrics/image_io.h"
 #include "cubeao/metrics/image_metrics.h"
+#include "test_util.h"
 
 namespace fs = std::filesystem;
 using namespace cubeao;
+using namespace cubeao::test;
 
 namespace {
 
 constexpr int kW = 32, kH = 24;
-
-// A unique directory under the system temp dir, removed with everything in it at scope exit.
-class TempDir {
-public:
-    explicit TempDir(const std::string& tag) {
-        static int counter = 0;
-        path_ = fs::temp_directory_path() /
-                ("cubeao_test_metrics_" + tag + "_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    const fs::path& path() const { return path_; }
-    fs::path operator/(const std::string& name) const { return path_ / name; }
-
-private:
-    fs::path path_;
-};
 
 // Smooth structure plus seeded noise, kept in [0.2, 0.8] so offsets of up to 0.2 stay in [0, 1].
 Image pattern(int w, int h, unsigned seed) {
@@ -99,16 +79,6 @@ double ssimDirect(const Image& a, const Image& b) {
     return total / count;
 }
 
-template <class F>
-std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "<no cubeao::Error thrown>";
-}
-
 }  // namespace
 
 // ---- per-image error figures ------------------------------------------------------------------
@@ -144,7 +114,7 @@ TEST(ImageMetrics, IdenticalImagesHaveInfinitePsnrWrittenAsNull) {
 
 TEST(ImageMetrics, SizeMismatchThrowsWithBothSizes) {
     const Image a(kW, kH, 0.5f), b(16, 12, 0.5f);
-    for (const std::string& msg : {errorOf([&] { imageDiff(a, b); }), errorOf([&] { ssim(a, b); })}) {
+    for (const std::string& msg : {errorMessage([&] { imageDiff(a, b); }), errorMessage([&] { ssim(a, b); })}) {
         EXPECT_NE(msg.find("32x24"), std::string::npos) << msg;
         EXPECT_NE(msg.find("16x12"), std::string::npos) << msg;
     }
@@ -188,7 +158,7 @@ TEST(Ssim, DecreasesWithNoise) {
 
 TEST(Ssim, RejectsImagesSmallerThanTheWindow) {
     const Image a(10, 24, 0.5f);
-    EXPECT_NE(errorOf([&] { ssim(a, a); }).find("11x11"), std::string::npos);
+    EXPECT_NE(errorMessage([&] { ssim(a, a); }).find("11x11"), std::string::npos);
 }
 
 // ---- flicker ------------------------------------------------------------------------------------
@@ -223,7 +193,7 @@ TEST(Flicker, HandComputedCase) {
 
 TEST(Flicker, DifferentLengthsThrow) {
     const std::vector<Image> a(3, Image(2, 2, 0.5f)), b(2, Image(2, 2, 0.5f));
-    EXPECT_NE(errorOf([&] { temporalFlicker(a, b); }).find("3 vs 2"), std::string::npos);
+    EXPECT_NE(errorMessage([&] { temporalFlicker(a, b); }).find("3 vs 2"), std::string::npos);
 }
 
 // ---- files --------------------------------------------------------------------------------------
@@ -255,7 +225,7 @@ TEST(ImageIo, PngPreviewIsLinear8Bit) {
     EXPECT_NEAR(b.pixels[1], 128.0f / 255.0f, 1e-6);  // linear: round(0.5 * 255) = 128, no sRGB curve
     EXPECT_NEAR(b.pixels[2], 1.0f, 1e-6);
     EXPECT_NEAR(b.pixels[3], 1.0f, 1e-6);  // clamped
-    EXPECT_NE(errorOf([&] { writePngRgb(dir / "rgb.png", 2, 2, std::vector<float>(5)); }).find("rgb.png"),
+    EXPECT_NE(errorMessage([&] { writePngRgb(dir / "rgb.png", 2, 2, std::vector<float>(5)); }).find("rgb.png"),
               std::string::npos);
     writePngRgb(dir / "rgb.png", 2, 1, {1, 0, 0, 0, 0, 1});
     EXPECT_NEAR(readImage(dir / "rgb.png").pixels[0], 1.0f, 1e-6);  // first channel (red)
@@ -263,8 +233,8 @@ TEST(ImageIo, PngPreviewIsLinear8Bit) {
 
 TEST(ImageIo, ErrorsNameTheFile) {
     TempDir dir("ioerr");
-    EXPECT_NE(errorOf([&] { readImage(dir / "missing.exr"); }).find("missing.exr"), std::string::npos);
-    EXPECT_NE(errorOf([&] { writeExr(dir / "no_such_dir" / "x.exr", Image(2, 2)); }).find("x.exr"),
+    EXPECT_NE(errorMessage([&] { readImage(dir / "missing.exr"); }).find("missing.exr"), std::string::npos);
+    EXPECT_NE(errorMessage([&] { writeExr(dir / "no_such_dir" / "x.exr", Image(2, 2)); }).find("x.exr"),
               std::string::npos);
 }
 
@@ -331,12 +301,12 @@ TEST(CompareDirs, MismatchedFrameSetsListWhatIsMissingWhere) {
     TempDir a("setA"), b("setB");
     for (const char* name : {"ao_0005.exr", "ao_0006.exr", "ao_0007.exr"}) writeExr(a / name, Image(kW, kH, 0.5f));
     for (const char* name : {"ao_0005.exr", "ao_0006.exr", "ao_0008.exr"}) writeExr(b / name, Image(kW, kH, 0.5f));
-    const std::string msg = errorOf([&] { compareDirs(a.path(), b.path()); });
+    const std::string msg = errorMessage([&] { compareDirs(a.path(), b.path()); });
     EXPECT_NE(msg.find("missing in '" + a.path().string() + "': ao_0008.exr"), std::string::npos) << msg;
     EXPECT_NE(msg.find("missing in '" + b.path().string() + "': ao_0007.exr"), std::string::npos) << msg;
 
     fs::remove(b / "ao_0008.exr");  // now only the count differs: 3 vs 2
-    const std::string count = errorOf([&] { compareDirs(a.path(), b.path()); });
+    const std::string count = errorMessage([&] { compareDirs(a.path(), b.path()); });
     EXPECT_NE(count.find("missing in '" + b.path().string() + "': ao_0007.exr"), std::string::npos) << count;
     EXPECT_EQ(count.find("missing in '" + a.path().string() + "'"), std::string::npos) << count;
 }
@@ -344,15 +314,15 @@ TEST(CompareDirs, MismatchedFrameSetsListWhatIsMissingWhere) {
 TEST(CompareDirs, EmptyOrMissingDirectoriesThrow) {
     TempDir a("emptyA"), b("emptyB");
     writeExr(a / "ao_0000.exr", Image(kW, kH, 0.5f));
-    EXPECT_NE(errorOf([&] { compareDirs(a.path(), b.path()); }).find("no frame files"), std::string::npos);
-    EXPECT_NE(errorOf([&] { compareDirs(a.path(), b / "nope"); }).find("does not exist"), std::string::npos);
+    EXPECT_NE(errorMessage([&] { compareDirs(a.path(), b.path()); }).find("no frame files"), std::string::npos);
+    EXPECT_NE(errorMessage([&] { compareDirs(a.path(), b / "nope"); }).find("does not exist"), std::string::npos);
 }
 
 TEST(CompareDirs, SizeMismatchNamesBothFilesAndSizes) {
     TempDir a("sizeA"), b("sizeB");
     writeExr(a / "ao_0001.exr", Image(kW, kH, 0.5f));
     writeExr(b / "ao_0001.exr", Image(16, 12, 0.5f));
-    const std::string msg = errorOf([&] { compareDirs(a.path(), b.path()); });
+    const std::string msg = errorMessage([&] { compareDirs(a.path(), b.path()); });
     EXPECT_NE(msg.find((a / "ao_0001.exr").string() + "' is 32x24"), std::string::npos) << msg;
     EXPECT_NE(msg.find((b / "ao_0001.exr").string() + "' is 16x12"), std::string::npos) << msg;
 }
@@ -363,7 +333,7 @@ TEST(CompareDirs, NonFiniteValuesAreRefused) {
     bad.at(3, 2) = std::numeric_limits<float>::quiet_NaN();
     writeExr(a / "ao_0001.exr", bad);
     writeExr(b / "ao_0001.exr", Image(kW, kH, 0.5f));
-    const std::string msg = errorOf([&] { compareDirs(a.path(), b.path()); });
+    const std::string msg = errorMessage([&] { compareDirs(a.path(), b.path()); });
     EXPECT_NE(msg.find("ao_0001.exr"), std::string::npos) << msg;
     EXPECT_NE(msg.find("(3, 2)"), std::string::npos) << msg;
 }

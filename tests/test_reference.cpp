@@ -14,49 +14,49 @@ namespace {
 
 const glm::vec3 kUp(0.0f, 1.0f, 0.0f);
 
-struct SpherePlane : ::testing::Test {
-    static void SetUpTestSuite() {
-        scene = new Scene(makeBuiltinScene("builtin:sphere-plane"));
-        rt = new EmbreeScene(*scene);
-    }
-    static void TearDownTestSuite() {
-        delete rt;
-        delete scene;
-    }
-    static Scene* scene;
-    static EmbreeScene* rt;
+// A built-in scene and its Embree BVH, built once per test program and shared by the tests below.
+struct Loaded {
+    Scene scene;
+    EmbreeScene rt;
+    explicit Loaded(const std::string& spec) : scene(makeBuiltinScene(spec)), rt(scene) {}
 };
-Scene* SpherePlane::scene = nullptr;
-EmbreeScene* SpherePlane::rt = nullptr;
+const EmbreeScene& spherePlane() {
+    static const Loaded loaded("builtin:sphere-plane");
+    return loaded.rt;
+}
+const EmbreeScene& boxRoom() {
+    static const Loaded loaded("builtin:box-room");
+    return loaded.rt;
+}
 
-TEST_F(SpherePlane, UnderTheCentreMatchesOneMinusRatioSquared) {
+TEST(SpherePlane, UnderTheCentreMatchesOneMinusRatioSquared) {
     // Unbounded AO under a sphere of radius r at height h is 1 − (r/h)²; every ray towards the sphere
     // hits within sqrt(h² − r²) < 2, so R = 10 is "unbounded" here.
     const float r = scenes::kSphereRadius, h = scenes::kSphereHeight;
     const AoSettings settings{10.0f, 16384, Falloff::None, 0};
-    const AoEstimate e = ambientOcclusion(*rt, glm::vec3(0.0f), kUp, 10.0f, settings, 1234u);
+    const AoEstimate e = ambientOcclusion(spherePlane(), glm::vec3(0.0f), kUp, 10.0f, settings, 1234u);
     EXPECT_NEAR(e.ao, 1.0f - (r / h) * (r / h), 0.01f);
     // The iid standard error of a Bernoulli mean with p = 1/4.
     EXPECT_NEAR(e.stdError, std::sqrt(0.75 * 0.25 / 16384.0), 2e-4);
 }
 
-TEST_F(SpherePlane, RadiusShorterThanTheSphereSeesNothing) {
+TEST(SpherePlane, RadiusShorterThanTheSphereSeesNothing) {
     // The sphere's lowest point is h − r = 1 above the origin: with R = 0.9 nothing is in reach.
     const AoSettings settings{0.9f, 256, Falloff::None, 0};
-    EXPECT_EQ(ambientOcclusion(*rt, glm::vec3(0.0f), kUp, 0.9f, settings, 7u).ao, 1.0f);
+    EXPECT_EQ(ambientOcclusion(spherePlane(), glm::vec3(0.0f), kUp, 0.9f, settings, 7u).ao, 1.0f);
 }
 
-TEST_F(SpherePlane, OpenPlaneIsFullyOpen) {
+TEST(SpherePlane, OpenPlaneIsFullyOpen) {
     const AoSettings settings{2.0f, 256, Falloff::None, 0};
-    const AoEstimate e = ambientOcclusion(*rt, glm::vec3(30.0f, 0.0f, 30.0f), kUp, 2.0f, settings, 99u);
+    const AoEstimate e = ambientOcclusion(spherePlane(), glm::vec3(30.0f, 0.0f, 30.0f), kUp, 2.0f, settings, 99u);
     EXPECT_EQ(e.ao, 1.0f);
     EXPECT_EQ(e.stdError, 0.0f);
 }
 
-TEST_F(SpherePlane, SmoothFalloffNeverDarkensMoreThanNone) {
+TEST(SpherePlane, SmoothFalloffNeverDarkensMoreThanNone) {
     const AoSettings none{3.0f, 1024, Falloff::None, 0}, smooth{3.0f, 1024, Falloff::Smooth, 0};
-    const float aoNone = ambientOcclusion(*rt, glm::vec3(0.0f), kUp, 3.0f, none, 5u).ao;
-    const float aoSmooth = ambientOcclusion(*rt, glm::vec3(0.0f), kUp, 3.0f, smooth, 5u).ao;
+    const float aoNone = ambientOcclusion(spherePlane(), glm::vec3(0.0f), kUp, 3.0f, none, 5u).ao;
+    const float aoSmooth = ambientOcclusion(spherePlane(), glm::vec3(0.0f), kUp, 3.0f, smooth, 5u).ao;
     EXPECT_GT(aoSmooth, aoNone + 0.05f);  // hits lie 1–1.7 from the origin: weights well below 1
     EXPECT_LT(aoSmooth, 1.0f);
 }
@@ -70,29 +70,14 @@ TEST(Falloff, WeightsAndNames) {
     EXPECT_THROW(parseFalloff("linear"), UsageError);
 }
 
-struct BoxRoom : ::testing::Test {
-    static void SetUpTestSuite() {
-        scene = new Scene(makeBuiltinScene("builtin:box-room"));
-        rt = new EmbreeScene(*scene);
-    }
-    static void TearDownTestSuite() {
-        delete rt;
-        delete scene;
-    }
-    static Scene* scene;
-    static EmbreeScene* rt;
-};
-Scene* BoxRoom::scene = nullptr;
-EmbreeScene* BoxRoom::rt = nullptr;
-
-TEST_F(BoxRoom, ClosedBoxIsFullyOccludedWhenRadiusExceedsIt) {
+TEST(BoxRoom, ClosedBoxIsFullyOccludedWhenRadiusExceedsIt) {
     const float radius = 1.5f * glm::length(glm::vec3(scenes::kRoomX, scenes::kRoomY, scenes::kRoomZ));
     const AoSettings settings{radius, 1024, Falloff::None, 0};
-    const AoEstimate e = ambientOcclusion(*rt, glm::vec3(3.0f, 0.0f, 2.0f), kUp, radius, settings, 3u);
+    const AoEstimate e = ambientOcclusion(boxRoom(), glm::vec3(3.0f, 0.0f, 2.0f), kUp, radius, settings, 3u);
     EXPECT_EQ(e.ao, 0.0f);
 }
 
-TEST_F(BoxRoom, AoFallsMonotonicallyTowardsTheInnerCorner) {
+TEST(BoxRoom, AoFallsMonotonicallyTowardsTheInnerCorner) {
     // Floor points on the diagonal towards the free corner at the origin, all with the same rays (same
     // key): each ray's distance to the two walls shrinks as the point nears the corner, so the occluded
     // set only grows. Nothing else is within R of these points.
@@ -101,7 +86,7 @@ TEST_F(BoxRoom, AoFallsMonotonicallyTowardsTheInnerCorner) {
     float previous = 2.0f, first = 0.0f, last = 0.0f;
     for (int i = 0; i <= 20; ++i) {
         const float d = 2.0f - 0.0975f * float(i);  // 2.0 m … 0.05 m from each wall
-        const float ao = ambientOcclusion(*rt, glm::vec3(d, 0.0f, d), kUp, radius, settings, 42u).ao;
+        const float ao = ambientOcclusion(boxRoom(), glm::vec3(d, 0.0f, d), kUp, radius, settings, 42u).ao;
         EXPECT_LE(ao, previous) << "at " << d << " m from the walls";
         if (i == 0) first = ao;
         last = ao;
@@ -111,23 +96,23 @@ TEST_F(BoxRoom, AoFallsMonotonicallyTowardsTheInnerCorner) {
     EXPECT_LT(last, first - 0.3f);  // 5 cm from the corner: two walls block a large part
 }
 
-TEST_F(BoxRoom, EveryDirectionFromInsideHitsAWall) {
+TEST(BoxRoom, EveryDirectionFromInsideHitsAWall) {
     // "Closed room": no ray escapes (the closed-box test above relies on it).
     const glm::vec3 p(4.0f, 1.5f, 3.0f);
     for (std::uint32_t i = 0; i < 512; ++i) {
         const glm::vec2 u = sampling::rotatedHammersley(i, 512, 0);
         const float z = 1.0f - 2.0f * u.x, s = std::sqrt(std::max(0.0f, 1.0f - z * z));
         const glm::vec3 dir(s * std::cos(6.2831853f * u.y), z, s * std::sin(6.2831853f * u.y));
-        EXPECT_TRUE(rt->intersect(p, dir, 0.0f, 100.0f).hit) << "direction " << i;
+        EXPECT_TRUE(boxRoom().intersect(p, dir, 0.0f, 100.0f).hit) << "direction " << i;
     }
 }
 
-TEST_F(BoxRoom, FrameIsDeterministicAndZeroWhenRadiusExceedsTheRoom) {
+TEST(BoxRoom, FrameIsDeterministicAndZeroWhenRadiusExceedsTheRoom) {
     const CameraPath path = builtinCameraPath("builtin:box-room");
     const PinholeCamera cam(path, 3, 32, 18);
     const AoSettings settings{20.0f, 16, Falloff::None, 0};
-    const ReferenceFrame a = renderReferenceFrame(*rt, cam, 20.0f, settings, 3, nullptr);
-    const ReferenceFrame b = renderReferenceFrame(*rt, cam, 20.0f, settings, 3, nullptr);
+    const ReferenceFrame a = renderReferenceFrame(boxRoom(), cam, 20.0f, settings, 3, nullptr);
+    const ReferenceFrame b = renderReferenceFrame(boxRoom(), cam, 20.0f, settings, 3, nullptr);
     ASSERT_EQ(a.ao.pixels.size(), 32u * 18u);
     EXPECT_EQ(a.ao.pixels, b.ao.pixels);
     EXPECT_EQ(a.backgroundFraction, 0.0);
@@ -135,19 +120,19 @@ TEST_F(BoxRoom, FrameIsDeterministicAndZeroWhenRadiusExceedsTheRoom) {
     EXPECT_EQ(a.aoRays, 32u * 18u * 16u);
 }
 
-TEST_F(BoxRoom, FrameMatchesPointQueriesAtThePrimaryHits) {
+TEST(BoxRoom, FrameMatchesPointQueriesAtThePrimaryHits) {
     const CameraPath path = builtinCameraPath("builtin:box-room");
     const PinholeCamera cam(path, 0, 24, 16);
     const AoSettings settings{1.0f, 32, Falloff::None, 9};
-    const ReferenceFrame f = renderReferenceFrame(*rt, cam, 1.0f, settings, 0, nullptr);
+    const ReferenceFrame f = renderReferenceFrame(boxRoom(), cam, 1.0f, settings, 0, nullptr);
     double mean = 0.0;
     for (int y = 0; y < cam.height; y += 5)
         for (int x = 0; x < cam.width; x += 5) {
             const glm::vec3 dir = cam.rayDirection(x, y);
-            const RayHit hit = rt->intersect(cam.eye, dir, 0.0f, 1e9f);
+            const RayHit hit = boxRoom().intersect(cam.eye, dir, 0.0f, 1e9f);
             ASSERT_TRUE(hit.hit);
             const glm::vec3 n = glm::dot(hit.normal, dir) > 0.0f ? -hit.normal : hit.normal;
-            const float ao = ambientOcclusion(*rt, cam.eye + hit.t * dir, n, 1.0f, settings,
+            const float ao = ambientOcclusion(boxRoom(), cam.eye + hit.t * dir, n, 1.0f, settings,
                                               sampling::hashKey(std::uint32_t(x), std::uint32_t(y), 0u ^ 9u)).ao;
             EXPECT_EQ(f.ao.at(x, y), ao) << x << "," << y;
         }

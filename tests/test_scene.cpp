@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <ostream>
 #include <random>
 #include <string>
 #include <vector>
@@ -19,13 +18,10 @@
 #include "cubeao/core/error.h"
 #include "cubeao/scene/repair.h"
 #include "cubeao/scene/scene.h"
+#include "test_util.h"
 
 using namespace cubeao;
-
-namespace glm {
-// Readable failure messages for EXPECT_EQ on vectors (found by argument-dependent lookup).
-inline void PrintTo(const vec3& v, std::ostream* os) { *os << "(" << v.x << ", " << v.y << ", " << v.z << ")"; }
-}  // namespace glm
+using namespace cubeao::test;
 
 namespace {
 
@@ -40,18 +36,6 @@ Scene makeScene(const std::string& source, std::vector<glm::vec3> positions, std
     s.indices = std::move(indices);
     s.normals = std::move(normals);
     return s;
-}
-
-// The message of the cubeao::Error `f` throws, or "" (and a test failure) when it does not throw.
-template <class F>
-std::string errorMessage(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "expected cubeao::Error, nothing was thrown";
-    return "";
 }
 
 // A triangle as its three corners (position, and optionally normal), rotated so the smallest corner
