@@ -34,7 +34,7 @@ TEST(SpherePlane, UnderTheCentreMatchesOneMinusRatioSquared) {
     // hits within sqrt(h² − r²) < 2, so R = 10 is "unbounded" here.
     const float r = scenes::kSphereRadius, h = scenes::kSphereHeight;
     const AoSettings settings{10.0f, 16384, Falloff::None, 0};
-    const AoEstimate e = ambientOcclusion(spherePlane(), glm::vec3(0.0f), kUp, 10.0f, settings, 1234u);
+    const AoEstimate e = ambientOcclusion(spherePlane(), glm::vec3(0.0f), kUp, settings, 1234u);
     EXPECT_NEAR(e.ao, 1.0f - (r / h) * (r / h), 0.01f);
     // The iid standard error of a Bernoulli mean with p = 1/4.
     EXPECT_NEAR(e.stdError, std::sqrt(0.75 * 0.25 / 16384.0), 2e-4);
@@ -43,20 +43,20 @@ TEST(SpherePlane, UnderTheCentreMatchesOneMinusRatioSquared) {
 TEST(SpherePlane, RadiusShorterThanTheSphereSeesNothing) {
     // The sphere's lowest point is h − r = 1 above the origin: with R = 0.9 nothing is in reach.
     const AoSettings settings{0.9f, 256, Falloff::None, 0};
-    EXPECT_EQ(ambientOcclusion(spherePlane(), glm::vec3(0.0f), kUp, 0.9f, settings, 7u).ao, 1.0f);
+    EXPECT_EQ(ambientOcclusion(spherePlane(), glm::vec3(0.0f), kUp, settings, 7u).ao, 1.0f);
 }
 
 TEST(SpherePlane, OpenPlaneIsFullyOpen) {
     const AoSettings settings{2.0f, 256, Falloff::None, 0};
-    const AoEstimate e = ambientOcclusion(spherePlane(), glm::vec3(30.0f, 0.0f, 30.0f), kUp, 2.0f, settings, 99u);
+    const AoEstimate e = ambientOcclusion(spherePlane(), glm::vec3(30.0f, 0.0f, 30.0f), kUp, settings, 99u);
     EXPECT_EQ(e.ao, 1.0f);
     EXPECT_EQ(e.stdError, 0.0f);
 }
 
 TEST(SpherePlane, SmoothFalloffNeverDarkensMoreThanNone) {
     const AoSettings none{3.0f, 1024, Falloff::None, 0}, smooth{3.0f, 1024, Falloff::Smooth, 0};
-    const float aoNone = ambientOcclusion(spherePlane(), glm::vec3(0.0f), kUp, 3.0f, none, 5u).ao;
-    const float aoSmooth = ambientOcclusion(spherePlane(), glm::vec3(0.0f), kUp, 3.0f, smooth, 5u).ao;
+    const float aoNone = ambientOcclusion(spherePlane(), glm::vec3(0.0f), kUp, none, 5u).ao;
+    const float aoSmooth = ambientOcclusion(spherePlane(), glm::vec3(0.0f), kUp, smooth, 5u).ao;
     EXPECT_GT(aoSmooth, aoNone + 0.05f);  // hits lie 1–1.7 from the origin: weights well below 1
     EXPECT_LT(aoSmooth, 1.0f);
 }
@@ -73,7 +73,7 @@ TEST(Falloff, WeightsAndNames) {
 TEST(BoxRoom, ClosedBoxIsFullyOccludedWhenRadiusExceedsIt) {
     const float radius = 1.5f * glm::length(glm::vec3(scenes::kRoomX, scenes::kRoomY, scenes::kRoomZ));
     const AoSettings settings{radius, 1024, Falloff::None, 0};
-    const AoEstimate e = ambientOcclusion(boxRoom(), glm::vec3(3.0f, 0.0f, 2.0f), kUp, radius, settings, 3u);
+    const AoEstimate e = ambientOcclusion(boxRoom(), glm::vec3(3.0f, 0.0f, 2.0f), kUp, settings, 3u);
     EXPECT_EQ(e.ao, 0.0f);
 }
 
@@ -86,7 +86,7 @@ TEST(BoxRoom, AoFallsMonotonicallyTowardsTheInnerCorner) {
     float previous = 2.0f, first = 0.0f, last = 0.0f;
     for (int i = 0; i <= 20; ++i) {
         const float d = 2.0f - 0.0975f * float(i);  // 2.0 m … 0.05 m from each wall
-        const float ao = ambientOcclusion(boxRoom(), glm::vec3(d, 0.0f, d), kUp, radius, settings, 42u).ao;
+        const float ao = ambientOcclusion(boxRoom(), glm::vec3(d, 0.0f, d), kUp, settings, 42u).ao;
         EXPECT_LE(ao, previous) << "at " << d << " m from the walls";
         if (i == 0) first = ao;
         last = ao;
@@ -111,8 +111,8 @@ TEST(BoxRoom, FrameIsDeterministicAndZeroWhenRadiusExceedsTheRoom) {
     const CameraPath path = builtinCameraPath("builtin:box-room");
     const PinholeCamera cam(path, 3, 32, 18);
     const AoSettings settings{20.0f, 16, Falloff::None, 0};
-    const ReferenceFrame a = renderReferenceFrame(boxRoom(), cam, 20.0f, settings, 3, nullptr);
-    const ReferenceFrame b = renderReferenceFrame(boxRoom(), cam, 20.0f, settings, 3, nullptr);
+    const ReferenceFrame a = renderReferenceFrame(boxRoom(), cam, settings, 3, nullptr);
+    const ReferenceFrame b = renderReferenceFrame(boxRoom(), cam, settings, 3, nullptr);
     ASSERT_EQ(a.ao.pixels.size(), 32u * 18u);
     EXPECT_EQ(a.ao.pixels, b.ao.pixels);
     EXPECT_EQ(a.backgroundFraction, 0.0);
@@ -124,7 +124,7 @@ TEST(BoxRoom, FrameMatchesPointQueriesAtThePrimaryHits) {
     const CameraPath path = builtinCameraPath("builtin:box-room");
     const PinholeCamera cam(path, 0, 24, 16);
     const AoSettings settings{1.0f, 32, Falloff::None, 9};
-    const ReferenceFrame f = renderReferenceFrame(boxRoom(), cam, 1.0f, settings, 0, nullptr);
+    const ReferenceFrame f = renderReferenceFrame(boxRoom(), cam, settings, 0, nullptr);
     double mean = 0.0;
     for (int y = 0; y < cam.height; y += 5)
         for (int x = 0; x < cam.width; x += 5) {
@@ -132,7 +132,7 @@ TEST(BoxRoom, FrameMatchesPointQueriesAtThePrimaryHits) {
             const RayHit hit = boxRoom().intersect(cam.eye, dir, 0.0f, 1e9f);
             ASSERT_TRUE(hit.hit);
             const glm::vec3 n = glm::dot(hit.normal, dir) > 0.0f ? -hit.normal : hit.normal;
-            const float ao = ambientOcclusion(boxRoom(), cam.eye + hit.t * dir, n, 1.0f, settings,
+            const float ao = ambientOcclusion(boxRoom(), cam.eye + hit.t * dir, n, settings,
                                               sampling::hashKey(std::uint32_t(x), std::uint32_t(y), 0u ^ 9u)).ao;
             EXPECT_EQ(f.ao.at(x, y), ao) << x << "," << y;
         }
@@ -151,7 +151,7 @@ TEST(ReferenceFrame, BackFacesAreEvaluatedOnTheSideTheCameraSees) {
     path.frames.push_back({{0.5f, -1.0f, 0.0f}, {0.0f, 0.0f, 0.0f}});
     const PinholeCamera cam(path, 0, 16, 16);
     const AoSettings settings{5.0f, 64, Falloff::None, 0};
-    const ReferenceFrame f = renderReferenceFrame(rt, cam, 5.0f, settings, 0, nullptr);
+    const ReferenceFrame f = renderReferenceFrame(rt, cam, settings, 0, nullptr);
     EXPECT_EQ(f.backgroundFraction, 0.0);
     for (float v : f.ao.pixels) EXPECT_EQ(v, 1.0f);
 }
@@ -160,8 +160,8 @@ TEST(ReferenceFrame, RejectsBadSettings) {
     const Scene scene = makeBuiltinScene("builtin:box-room");
     const EmbreeScene rt(scene);
     const PinholeCamera cam(builtinCameraPath("builtin:box-room"), 0, 8, 8);
-    EXPECT_THROW(renderReferenceFrame(rt, cam, 1.0f, AoSettings{1.0f, 0, Falloff::None, 0}, 0, nullptr), UsageError);
-    EXPECT_THROW(renderReferenceFrame(rt, cam, 0.0f, AoSettings{}, 0, nullptr), UsageError);
+    EXPECT_THROW(renderReferenceFrame(rt, cam, AoSettings{1.0f, 0, Falloff::None, 0}, 0, nullptr), UsageError);
+    EXPECT_THROW(renderReferenceFrame(rt, cam, AoSettings{}, 0, nullptr), UsageError);
 }
 
 TEST(Sampling, CosineDirectionsStayInTheHemisphereAndAverageToTheNormal) {

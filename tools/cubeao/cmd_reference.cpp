@@ -46,9 +46,9 @@ void run(const ReferenceArgs& a) {
     const Scene scene = loadScene(a.scene);
     const CameraPath path = resolveCameraPath(a.camera, a.scene);
     const FrameRange range = parseFrameRange(a.frames, path.frames.size());
-    AoSettings settings{a.radius, a.spp, parseFalloff(a.falloff), a.seed};
-    const float radius = a.radius > 0.0f ? a.radius : scene.defaultRadius();
     if (a.radius < 0.0f) throw UsageError("--radius must be positive");
+    const AoSettings settings{a.radius > 0.0f ? a.radius : scene.defaultRadius(), a.spp, parseFalloff(a.falloff), a.seed};
+    const float radius = settings.radius;
     int w = 0, h = 0;
     resolveSize(a, path, w, h);
     fs::create_directories(a.out);
@@ -66,7 +66,7 @@ void run(const ReferenceArgs& a) {
     for (std::size_t f = range.begin; f < range.end; ++f) {
         const auto start = std::chrono::steady_clock::now();
         const ReferenceFrame frame =
-            renderReferenceFrame(rt, PinholeCamera(path, f, w, h), radius, settings, std::uint32_t(f), &progress);
+            renderReferenceFrame(rt, PinholeCamera(path, f, w, h), settings, std::uint32_t(f), &progress);
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         traceSeconds += secs;
         rays += frame.aoRays + std::uint64_t(w) * std::uint64_t(h);

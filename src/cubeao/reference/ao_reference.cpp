@@ -27,8 +27,9 @@ float occlusionWeight(Falloff falloff, float t, float radius) {
     return w * w;
 }
 
-AoEstimate ambientOcclusion(const EmbreeScene& scene, const glm::vec3& p, const glm::vec3& n, float radius,
+AoEstimate ambientOcclusion(const EmbreeScene& scene, const glm::vec3& p, const glm::vec3& n,
                             const AoSettings& settings, std::uint32_t key) {
+    const float radius = settings.radius;
     const glm::vec3 org = p + scene.surfaceEpsilon() * n;
     const auto count = std::uint32_t(settings.spp);
     double sum = 0.0, sumSq = 0.0;
@@ -49,10 +50,10 @@ AoEstimate ambientOcclusion(const EmbreeScene& scene, const glm::vec3& p, const 
     return {float(1.0 - mean), float(std::sqrt(var / count))};
 }
 
-ReferenceFrame renderReferenceFrame(const EmbreeScene& scene, const PinholeCamera& cam, float radius,
-                                    const AoSettings& settings, std::uint32_t frameIndex, Progress* progress) {
+ReferenceFrame renderReferenceFrame(const EmbreeScene& scene, const PinholeCamera& cam, const AoSettings& settings,
+                                    std::uint32_t frameIndex, Progress* progress) {
     if (settings.spp < 1) throw UsageError("--spp must be at least 1");
-    if (!(radius > 0.0f)) throw UsageError("--radius must be positive");
+    if (!(settings.radius > 0.0f)) throw UsageError("--radius must be positive");
     ReferenceFrame out;
     out.ao.width = cam.width;
     out.ao.height = cam.height;
@@ -73,7 +74,7 @@ ReferenceFrame renderReferenceFrame(const EmbreeScene& scene, const PinholeCamer
                 }
                 // Open architecture is two-sided: evaluate the side the camera sees.
                 const glm::vec3 n = glm::dot(hit.normal, dir) > 0.0f ? -hit.normal : hit.normal;
-                const AoEstimate e = ambientOcclusion(scene, cam.eye + hit.t * dir, n, radius, settings,
+                const AoEstimate e = ambientOcclusion(scene, cam.eye + hit.t * dir, n, settings,
                                                       sampling::hashKey(std::uint32_t(x), std::uint32_t(y), frameKey));
                 out.ao.pixels[i] = e.ao;
                 stdErr[i] = e.stdError;

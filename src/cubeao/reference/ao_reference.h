@@ -23,7 +23,7 @@ Falloff parseFalloff(const std::string& name);  // "none" | "smooth"; UsageError
 const char* falloffName(Falloff f);
 
 struct AoSettings {
-    float radius = 0.0f;  // world units; 0 = the scene default (2 % of the bounding-box diagonal)
+    float radius = 0.0f;  // world units, > 0 (commands resolve 0 to the scene default: 2 % of the bbox diagonal)
     int spp = 64;         // rays per pixel or texel
     Falloff falloff = Falloff::None;
     std::uint32_t seed = 0;  // changes every pixel's rotation of the sample set
@@ -40,7 +40,7 @@ struct AoEstimate {
 
 // AO at surface point p with unit normal n (facing the side to evaluate), `key` choosing the rotation
 // of the sample set (e.g. a pixel or texel id). Deterministic: same inputs, same rays, same answer.
-AoEstimate ambientOcclusion(const EmbreeScene& scene, const glm::vec3& p, const glm::vec3& n, float radius,
+AoEstimate ambientOcclusion(const EmbreeScene& scene, const glm::vec3& p, const glm::vec3& n,
                             const AoSettings& settings, std::uint32_t key);
 
 struct ReferenceFrame {
@@ -51,7 +51,7 @@ struct ReferenceFrame {
 };
 
 // One camera image, all cores. The key of pixel (x, y) is hashKey(x, y, frame ^ seed).
-ReferenceFrame renderReferenceFrame(const EmbreeScene& scene, const PinholeCamera& camera, float radius,
-                                    const AoSettings& settings, std::uint32_t frameIndex, Progress* progress);
+ReferenceFrame renderReferenceFrame(const EmbreeScene& scene, const PinholeCamera& camera, const AoSettings& settings,
+                                    std::uint32_t frameIndex, Progress* progress);
 
 }  // namespace cubeao
