@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "gl_fixture.h"
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -156,21 +158,6 @@ TEST(HeadlessContext, UnknownPlatformVariableIsReported) {
 
 // ---- with a GL context ------------------------------------------------------------------------
 
-class GlTest : public ::testing::Test {
-protected:
-    static void SetUpTestSuite() { context_ = gl::HeadlessContext::tryCreate(&whyNot_); }
-    static void TearDownTestSuite() { context_.reset(); }
-    void SetUp() override {
-        if (!context_) GTEST_SKIP() << "no headless GL context: " << whyNot_;
-        context_->makeCurrent();
-    }
-
-    static std::optional<gl::HeadlessContext> context_;
-    static std::string whyNot_;
-};
-
-std::optional<gl::HeadlessContext> GlTest::context_;
-std::string GlTest::whyNot_;
 
 TEST_F(GlTest, ContextIsGl45Core) {
     EXPECT_GE(context_->majorVersion() * 10 + context_->minorVersion(), 45);

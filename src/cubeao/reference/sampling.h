@@ -2,7 +2,7 @@
 // twin can reproduce the same rays bit for bit where it matters (the traced bake of DESIGN.md §4):
 // one fixed 2-D low-discrepancy set (Hammersley) per sample count, rotated per pixel or texel by a
 // toroidal shift from an integer hash (Cranley–Patterson rotation), mapped to a cosine-weighted
-// hemisphere around the normal.
+// hemisphere around the normal. Twin: shaders/common/sampling.glsl (tests/test_sampling_gl.cpp).
 #pragma once
 
 #include <cmath>
@@ -51,7 +51,7 @@ inline glm::vec2 rotatedHammersley(std::uint32_t i, std::uint32_t n, std::uint32
 
 // Orthonormal basis around unit n (Duff et al., "Building an Orthonormal Basis, Revisited", JCGT 2017).
 inline void basis(const glm::vec3& n, glm::vec3& t, glm::vec3& b) {
-    const float s = std::copysign(1.0f, n.z);
+    const float s = n.z >= 0.0f ? 1.0f : -1.0f;  // as the GLSL twin (copysign would differ at -0)
     const float a = -1.0f / (s + n.z);
     const float c = n.x * n.y * a;
     t = glm::vec3(1.0f + s * n.x * n.x * a, s * c, -s * n.x);
