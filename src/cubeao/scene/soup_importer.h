@@ -1,7 +1,8 @@
 // An OpenMesh importer that keeps the file's triangles as a soup. OpenMesh's own TriMesh importer
-// builds half-edge connectivity and silently drops every face that would make an edge or vertex
-// non-manifold ("complex edge"): on Sibenik that loses ~500 triangles. Architecture models are
-// non-manifold by nature, so we let OpenMesh's readers parse and keep every face ourselves.
+// builds half-edge connectivity: every non-manifold face ("complex edge/vertex", hundreds on
+// Sibenik) is re-added with duplicated vertices or, where even that fails, dropped, with a line of
+// stderr for each. Architecture models are non-manifold by nature and AO needs no connectivity, so
+// OpenMesh's readers parse and we keep every face as the file wrote it.
 #pragma once
 
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
