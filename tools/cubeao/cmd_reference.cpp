@@ -47,14 +47,14 @@ void run(const ReferenceArgs& a) {
     const CameraPath path = resolveCameraPath(a.camera, a.scene);
     const FrameRange range = parseFrameRange(a.frames, path.frames.size());
     if (a.radius < 0.0f) throw UsageError("--radius must be positive");
-    const AoSettings settings{a.radius > 0.0f ? a.radius : scene.defaultRadius(), a.spp, parseFalloff(a.falloff), a.seed};
-    const float radius = settings.radius;
+    const AoSettings settings{a.radius > 0.0f ? a.radius : scene.defaultRadius(), a.spp, parseFalloff(a.falloff),
+                              a.seed};
     int w = 0, h = 0;
     resolveSize(a, path, w, h);
     fs::create_directories(a.out);
 
     spdlog::info("reference: {} ({} triangles), frames {}:{} at {}x{}, {} spp, R = {}", scene.source,
-                 scene.triangleCount(), range.begin, range.end, w, h, settings.spp, radius);
+                 scene.triangleCount(), range.begin, range.end, w, h, settings.spp, settings.radius);
     const auto t0 = std::chrono::steady_clock::now();
     const EmbreeScene rt(scene);
     const double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -81,7 +81,7 @@ void run(const ReferenceArgs& a) {
     nlohmann::json result = {{"scene", scene.source},
                              {"scene_hash", hashToString(scene.hash)},
                              {"triangles", scene.triangleCount()},
-                             {"radius", radius},
+                             {"radius", settings.radius},
                              {"spp", settings.spp},
                              {"falloff", falloffName(settings.falloff)},
                              {"seed", settings.seed},

@@ -66,8 +66,9 @@ std::size_t scanTextMesh(const fs::path& path, const std::string& ext) {
         std::istringstream words(line);
         while (words >> token) {
             const char c = char(std::tolower(static_cast<unsigned char>(token[0])));
-            if (!(c == 'n' || c == 'i' || c == '-' || c == '+' || c == '.' || std::isdigit(static_cast<unsigned char>(c))))
-                continue;
+            const bool numeric = c == 'n' || c == 'i' || c == '-' || c == '+' || c == '.' ||
+                                 std::isdigit(static_cast<unsigned char>(c));
+            if (!numeric) continue;
             char* end = nullptr;
             const double v = std::strtod(token.c_str(), &end);
             if (end != token.c_str() && *end == '\0' && !std::isfinite(v))
@@ -89,7 +90,8 @@ bool readWithOpenMesh(const fs::path& path, Scene& scene) {
     if (!ok) throw Error(path.string() + ": OpenMesh could not read the file (corrupt or not a mesh of its format)");
     if (ext == ".obj" && soup.fileVertices() != objVertexLines)
         throw Error(path.string() + ": " + std::to_string(objVertexLines - soup.fileVertices()) + " of " +
-                    std::to_string(objVertexLines) + " vertex lines could not be read (faces would use wrong vertices)");
+                    std::to_string(objVertexLines) +
+                    " vertex lines could not be read (faces would use wrong vertices)");
     scene.positions = std::move(soup.positions);
     scene.indices = std::move(soup.indices);
     if (soup.hasNormals) scene.normals = std::move(soup.normals);

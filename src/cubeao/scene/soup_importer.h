@@ -71,13 +71,13 @@ public:
         hasNormals = true;
     }
     // Vertices the file wrote (`v` lines), without the copies made for split corners.
-    std::size_t fileVertices() const { return positions.size() - splitCopies(); }
+    std::size_t fileVertices() const { return positions.size() - copies_; }
     void set_normal(VH vh, const Vec3d& n) override { set_normal(vh, Vec3f(n)); }
     void set_point(VH vh, const Vec3f& p) override {
         if (vh.idx() >= 0 && std::size_t(vh.idx()) < positions.size())
             positions[std::size_t(vh.idx())] = glm::vec3(p[0], p[1], p[2]);
     }
-    size_t n_vertices() const override { return positions.size() - splitCopies(); }
+    size_t n_vertices() const override { return fileVertices(); }
     size_t n_faces() const override { return faces; }
     size_t n_edges() const override { return 0; }
 
@@ -116,10 +116,9 @@ public:
     void add_texture_information(int, std::string) override {}
 
 private:
-    std::size_t splitCopies() const { return copies_; }
     std::vector<bool> normalSet_;
     std::unordered_map<int, int> cornerSplit_;  // this face's corners: vertex → its split copy
-    std::size_t copies_ = 0;
+    std::size_t copies_ = 0;  // positions appended by set_normal's splits
 };
 
 }  // namespace cubeao
