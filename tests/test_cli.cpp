@@ -73,4 +73,43 @@ TEST(Cli, ExitCodes) {
     EXPECT_EQ(run("reference builtin:box-room --falloff linear --out " + dir.path().string()).code, 2);
 }
 
+TEST(Cli, BakeCpuWritesProbesAndVerifies) {
+    TempDir dir;
+    const std::string probes = dir.write("probes.json", R"({"version":1,"probes":[{"pos":[3,1.4,2.5]},{"pos":[6,1.5,1.5]}]})");
+    const fs::path out = dir.path() / "bake", dump = dir.path() / "dump";
+    const CliRun r = run("bake builtin:box-room --probes " + probes + " --out " + out.string() + " --dump " +
+                         dump.string() + " --res 8 --spp 8 --device cpu --verify --json");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = lastLine(r.out);
+    EXPECT_EQ(j["probes"].get<int>(), 2);
+    EXPECT_GT(j["ms_per_probe"].get<double>(), 0.0);
+    EXPECT_EQ(j["verify_mae"].get<double>(), 0.0) << "CPU traced and its Embree twin trace the same rays";
+    ASSERT_EQ(j["per_probe"].size(), 2u);
+    EXPECT_TRUE(fs::exists(out / "bake.json"));
+    EXPECT_TRUE(fs::exists(out / "probe_0001_ao.exr"));
+    EXPECT_TRUE(fs::exists(dump / "probe_0001_cross.png"));
+
+    // A shard bakes every N-th probe, keeping the global probe index in its file names.
+    const fs::path shard = dir.path() / "shard";
+    const CliRun s = run("bake builtin:box-room --probes " + probes + " --out " + shard.string() +
+                         " --res 8 --estimator hsplit --device cpu --shard 1/2 --json");
+    ASSERT_EQ(s.code, 0) << s.out;
+    EXPECT_EQ(lastLine(s.out)["probes"].get<int>(), 1);
+    EXPECT_TRUE(fs::exists(shard / "probe_0001_ao.exr"));
+    EXPECT_FALSE(fs::exists(shard / "probe_0000_ao.exr"));
+}
+
+TEST(Cli, BakeRejectsBadInput) {
+    TempDir dir;
+    const std::string good = dir.write("good.json", R"({"version":1,"probes":[{"pos":[3,1.4,2.5]}]})");
+    const std::string out = " --out " + (dir.path() / "out").string() + " --device cpu --res 8";
+    EXPECT_EQ(run("bake builtin:box-room --probes " + good + out + " --estimator ssao").code, 2);
+    EXPECT_EQ(run("bake builtin:box-room --probes " + good + out + " --res 2").code, 2);
+    EXPECT_EQ(run("bake builtin:box-room --probes " + good + out + " --shard 2/2").code, 2);
+    EXPECT_EQ(run("bake builtin:box-room --probes " + good + out + " --device tpu").code, 2);
+    EXPECT_EQ(run("bake builtin:box-room --probes " + dir.write("v2.json", R"({"version":2,"probes":[]})") + out).code, 1);
+    EXPECT_EQ(run("bake builtin:box-room --probes " + dir.write("nan.json", R"({"version":1,"probes":[{"pos":[1,"x",2]}]})") + out).code, 1);
+    EXPECT_EQ(run("bake builtin:box-room --probes " + (dir.path() / "missing.json").string() + out).code, 1);
+}
+
 }  // namespace

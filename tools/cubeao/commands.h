@@ -11,6 +11,8 @@ namespace cubeao::cli {
 void addInfo(CLI::App& app);
 void addReference(CLI::App& app);
 void addCompare(CLI::App& app);
+void addBake(CLI::App& app);
+void addBench(CLI::App& app);
 
 // Prints `j` compactly on one line to stdout (the last line a --json command prints).
 void printJson(const nlohmann::json& j);

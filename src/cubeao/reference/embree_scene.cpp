@@ -46,11 +46,15 @@ EmbreeScene::EmbreeScene(const Scene& s) : impl_(std::make_unique<Impl>()) {
     rtcReleaseGeometry(geom);
     rtcCommitScene(impl_->scene);
 
+    epsilon_ = surfaceEpsilonFor(s);
+}
+
+float surfaceEpsilonFor(const Scene& s) {
     // ~170 float ulps at the scene's largest coordinate (0.7 mm for a 68 m cathedral): enough to clear
     // the rounding of a hit point reconstructed 100 m from the camera, far below any AO radius.
     const glm::vec3 far = glm::max(glm::abs(s.bounds.min), glm::abs(s.bounds.max));
     const float extent = std::max({far.x, far.y, far.z});
-    epsilon_ = std::max(1e-6f, extent * 1e-5f);
+    return std::max(1e-6f, extent * 1e-5f);
 }
 
 EmbreeScene::~EmbreeScene() {

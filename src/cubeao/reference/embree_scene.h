@@ -16,6 +16,9 @@ struct RayHit {
     bool hit = false;
 };
 
+// The ray-origin offset EmbreeScene uses for `s` (the GPU bake offsets its rays the same way).
+float surfaceEpsilonFor(const Scene& s);
+
 class EmbreeScene {
 public:
     explicit EmbreeScene(const Scene& scene);

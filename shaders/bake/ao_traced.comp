@@ -1,0 +1,63 @@
+#version 450 core
+// Traced AO for probe texels: SPP cosine-weighted rays from the texel's surface point through the
+// whole scene (BVH in SSBOs), the same rays as ambientOcclusion() in
+// src/cubeao/reference/ao_reference.cpp traces for the same texelKey. TEXEL_LIST: only the texels
+// listed by hybrid_select.comp (dispatched indirectly); otherwise every texel, index = global id.
+layout(local_size_x = 64) in;
+
+#define BVH_NODE_BINDING 10
+#define BVH_TRIANGLE_BINDING 11
+#include "bvh.glsl"
+#include "cube.glsl"
+#include "falloff.glsl"
+#include "sampling.glsl"
+
+layout(binding = 0) uniform sampler2DArray gbuffer;
+layout(std430, binding = 1) buffer AoOut { vec2 aoConfidence[]; };
+#ifdef TEXEL_LIST
+layout(std430, binding = 2) readonly buffer TexelList { uvec4 header; uint texels[]; };  // header.w = count
+#endif
+
+uniform vec3 probe;
+uniform int res;
+uniform float radius;
+uniform int spp;
+uniform int falloff;
+uniform float surfaceEpsilon;  // surfaceEpsilonFor(scene), as the Embree twin offsets its rays
+uniform uint probeKey;
+
+void main() {
+#ifdef TEXEL_LIST
+    if (gl_GlobalInvocationID.x >= header.w) return;
+    uint index = texels[gl_GlobalInvocationID.x];
+#else
+    uint index = gl_GlobalInvocationID.x;
+    if (index >= 6u * uint(res) * uint(res)) return;
+#endif
+    uint faceSize = uint(res) * uint(res);
+    ivec3 t = ivec3(int(index % uint(res)), int((index % faceSize) / uint(res)), int(index / faceSize));
+    vec4 g = texelFetch(gbuffer, t, 0);
+    if (!(g.w > 0.0)) {
+        aoConfidence[index] = vec2(1.0);
+        return;
+    }
+    vec3 n = g.xyz;
+    vec3 org = probe + cubeTexelDirection(t.z, t.xy, res) * g.w + surfaceEpsilon * n;
+    uint key = hashKey(uint(t.x), uint(t.z * res + t.y), probeKey);
+    float occlusion = 0.0;
+    for (int k = 0; k < spp; ++k) {
+        vec3 dir = cosineHemisphere(rotatedHammersley(uint(k), uint(spp), key), n);
+        if (falloff == FALLOFF_NONE) {
+            occlusion += bvhOccluded(org, dir, 0.0, radius) ? 1.0 : 0.0;
+        } else {
+            float hitT;
+            uint triangle;
+            if (bvhIntersect(org, dir, 0.0, radius, hitT, triangle)) occlusion += occlusionWeight(falloff, hitT, radius);
+        }
+    }
+#ifdef TEXEL_LIST
+    aoConfidence[index].x = 1.0 - occlusion / float(spp);  // keep the horizon pass's confidence
+#else
+    aoConfidence[index] = vec2(1.0 - occlusion / float(spp), 1.0);
+#endif
+}

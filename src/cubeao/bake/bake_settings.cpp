@@ -1,0 +1,65 @@
+#include "cubeao/bake/bake_settings.h"
+
+#include <vector>
+
+#include "cubeao/core/error.h"
+#include "cubeao/reference/sampling.h"
+
+namespace cubeao {
+
+Estimator parseEstimator(const std::string& name) {
+    if (name == "hsplit") return Estimator::HorizonSplit;
+    if (name == "gtao") return Estimator::Gtao;
+    if (name == "traced") return Estimator::Traced;
+    if (name == "hybrid") return Estimator::Hybrid;
+    throw UsageError("--estimator \"" + name + "\": expected hsplit, gtao, traced or hybrid");
+}
+
+const char* estimatorName(Estimator e) {
+    switch (e) {
+        case Estimator::HorizonSplit: return "hsplit";
+        case Estimator::Gtao: return "gtao";
+        case Estimator::Traced: return "traced";
+        case Estimator::Hybrid: return "hybrid";
+    }
+    return "?";
+}
+
+BakeDevice parseBakeDevice(const std::string& name) {
+    if (name == "gpu") return BakeDevice::Gpu;
+    if (name == "cpu") return BakeDevice::Cpu;
+    throw UsageError("--device \"" + name + "\": expected gpu or cpu");
+}
+
+const char* bakeDeviceName(BakeDevice d) { return d == BakeDevice::Gpu ? "gpu" : "cpu"; }
+
+BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius) {
+    if (s.res == 0) s.res = 512;
+    if (s.ao.spp == 0) s.ao.spp = 64;
+    if (s.ao.radius == 0.0f) s.ao.radius = sceneDefaultRadius;
+    if (s.directions == 0) s.directions = 16;
+    if (s.steps == 0) s.steps = 16;
+    if (s.hybridThreshold == 0.0f) s.hybridThreshold = 0.95f;
+
+    std::vector<std::string> problems;
+    if (s.res < 4 || s.res > 4096) problems.push_back("--res " + std::to_string(s.res) + ": expected 4..4096 texels");
+    if (s.ao.spp < 1 || s.ao.spp > 65536) problems.push_back("--spp " + std::to_string(s.ao.spp) + ": expected 1..65536");
+    if (!(s.ao.radius > 0.0f)) problems.push_back("--radius must be positive");
+    if (s.directions < 2 || s.directions > 64 || s.directions % 2 != 0)
+        problems.push_back("directions " + std::to_string(s.directions) + ": expected an even number in 2..64");
+    if (s.steps < 1 || s.steps > 64) problems.push_back("steps " + std::to_string(s.steps) + ": expected 1..64");
+    if (!(s.hybridThreshold > 0.0f && s.hybridThreshold <= 1.0f))
+        problems.push_back("hybrid threshold must lie in (0, 1]");
+    if (!problems.empty()) {
+        std::string message = "bad bake settings:";
+        for (const auto& p : problems) message += "\n  " + p;
+        throw UsageError(message);
+    }
+    return s;
+}
+
+std::uint32_t texelKey(int face, int i, int j, int res, std::uint32_t probeIndex, std::uint32_t seed) {
+    return sampling::hashKey(std::uint32_t(i), std::uint32_t(face * res + j), probeIndex ^ seed);
+}
+
+}  // namespace cubeao

@@ -1,0 +1,42 @@
+// What a probe bake computes and how (DESIGN.md §4 "Bake"): a plain aggregate where zero means
+// "default" (STYLE.md, sokol), resolved once by resolveBakeSettings so every stage sees final values.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "cubeao/reference/ao_reference.h"
+
+namespace cubeao {
+
+enum class Estimator {
+    HorizonSplit,  // "hsplit": W = 1/N_d Σ sin²(h_i) from the probe's own depth (Oswald ch. 4)
+    Gtao,          // "gtao": cosine-weighted GTAO slice integral (Jimenez et al. 2016, paper 002)
+    Traced,        // "traced": rays from the texel's surface point through the whole scene
+    Hybrid,        // "hybrid": hsplit where its confidence ≥ hybridThreshold, traced elsewhere
+};
+Estimator parseEstimator(const std::string& name);  // UsageError naming the choices otherwise
+const char* estimatorName(Estimator e);
+
+enum class BakeDevice { Gpu, Cpu };
+BakeDevice parseBakeDevice(const std::string& name);
+const char* bakeDeviceName(BakeDevice d);
+
+struct BakeSettings {
+    int res = 0;                      // face resolution, texels per side; 0 → 512 (thesis: 256² too coarse)
+    Estimator estimator = Estimator::Traced;
+    AoSettings ao;                    // radius (0 → scene default), spp for traced texels (0 → 64), falloff, seed
+    int directions = 0;               // horizon directions N_d; 0 → 16 (thesis ~15); even (gtao pairs them)
+    int steps = 0;                    // march steps N_s per direction; 0 → 16
+    float hybridThreshold = 0.0f;     // confidence below which hybrid traces; 0 → 0.95
+    BakeDevice device = BakeDevice::Gpu;
+};
+
+// Fills the zero fields with defaults (radius from `sceneDefaultRadius`) and checks ranges, listing
+// every problem in one UsageError.
+BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius);
+
+// Key of the per-texel rotation of sample sets: the same rays on every device.
+std::uint32_t texelKey(int face, int i, int j, int res, std::uint32_t probeIndex, std::uint32_t seed);
+
+}  // namespace cubeao

@@ -1,0 +1,163 @@
+// The CPU bake path of bake.h: Embree primary rays for the cube G-buffer, horizon.h or Embree AO rays
+// per texel, TBB over faces × rows. Every per-texel quantity depends only on the texel (its key, its
+// G-buffer entry), so the result does not depend on the thread count or the schedule.
+#include "cubeao/bake/bake.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "cubeao/bake/horizon.h"
+#include "cubeao/core/error.h"
+
+namespace cubeao {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double millisecondsSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Calls f(face, i, j, index) for every texel of a res² cube, in parallel over the 6·res rows.
+template <class F>
+void forEachTexel(int res, F&& f) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, cube::kFaces * res), [&](const tbb::blocked_range<int>& rows) {
+        for (int row = rows.begin(); row < rows.end(); ++row) {
+            const int face = row / res, j = row % res;
+            for (int i = 0; i < res; ++i) f(face, i, j, cube::texelIndex(face, i, j, res));
+        }
+    });
+}
+
+std::uint64_t nonEmptyTexels(const CubeGBuffer& g) {
+    std::uint64_t count = 0;
+    for (const glm::vec4& t : g.texels) count += CubeGBuffer::empty(t) ? 0 : 1;
+    return count;
+}
+
+// AO and confidence of every non-empty texel by a horizon estimator (HorizonSplit or Gtao).
+void horizonTexels(const CubeGBuffer& g, std::uint32_t probeIndex, const BakeSettings& s, Estimator estimator,
+                   std::vector<float>& ao, std::vector<float>& confidence) {
+    forEachTexel(g.res, [&](int face, int i, int j, std::size_t index) {
+        const glm::vec4& texel = g.texels[index];
+        if (CubeGBuffer::empty(texel)) return;
+        const std::uint32_t key = texelKey(face, i, j, g.res, probeIndex, s.ao.seed);
+        const glm::vec3 p = g.surfacePoint(face, i, j), n(texel);
+        const HorizonEstimate e = estimator == Estimator::Gtao ? gtaoAo(g, p, n, s, key)
+                                                               : horizonSplitAo(g, p, n, s, key);
+        ao[index] = e.ao;
+        confidence[index] = e.confidence;
+    });
+}
+
+}  // namespace
+
+CubeGBuffer renderGBufferCpu(const EmbreeScene& scene, const glm::vec3& probe, int res) {
+    if (res < 1) throw UsageError("cube G-buffer resolution " + std::to_string(res) + ": expected at least 1");
+    CubeGBuffer g;
+    g.res = res;
+    g.probe = probe;
+    g.texels.assign(g.texelCount(), glm::vec4(0.0f));
+    const float inf = std::numeric_limits<float>::infinity();
+    forEachTexel(res, [&](int face, int i, int j, std::size_t index) {
+        const glm::vec3 dir = cube::texelDirection(face, i, j, res);
+        const RayHit hit = scene.intersect(probe, dir, 0.0f, inf);
+        if (!hit.hit) return;
+        // Architecture is two-sided: keep the side the probe sees.
+        const glm::vec3 n = glm::dot(hit.normal, dir) > 0.0f ? -hit.normal : hit.normal;
+        g.texels[index] = glm::vec4(n, hit.t);
+    });
+    return g;
+}
+
+std::uint64_t traceTexelsCpu(const EmbreeScene& scene, const CubeGBuffer& g, std::uint32_t probeIndex,
+                             const BakeSettings& settings, std::vector<float>& ao,
+                             const std::vector<std::uint8_t>& only) {
+    if (!only.empty() && only.size() != g.texelCount())
+        throw Error("traceTexelsCpu: selection of " + std::to_string(only.size()) + " texels for a cube of " +
+                    std::to_string(g.texelCount()));
+    if (ao.size() != g.texelCount()) ao.assign(g.texelCount(), 1.0f);
+    const auto selected = [&](std::size_t index) {
+        return !CubeGBuffer::empty(g.texels[index]) && (only.empty() || only[index] != 0);
+    };
+    forEachTexel(g.res, [&](int face, int i, int j, std::size_t index) {
+        if (!selected(index)) return;
+        const std::uint32_t key = texelKey(face, i, j, g.res, probeIndex, settings.ao.seed);
+        ao[index] = ambientOcclusion(scene, g.surfacePoint(face, i, j), glm::vec3(g.texels[index]), settings.ao, key).ao;
+    });
+    std::uint64_t traced = 0;
+    for (std::size_t index = 0; index < g.texelCount(); ++index) traced += selected(index) ? 1 : 0;
+    return traced * std::uint64_t(settings.ao.spp);
+}
+
+BakedProbe bakeProbeCpu(const EmbreeScene& scene, const glm::vec3& probe, std::uint32_t probeIndex,
+                        const BakeSettings& settings) {
+    BakedProbe out;
+    const Clock::time_point gbufferStart = Clock::now();
+    out.gbuffer = renderGBufferCpu(scene, probe, settings.res);
+    out.timings.gbufferMs = millisecondsSince(gbufferStart);
+
+    const Clock::time_point aoStart = Clock::now();
+    const CubeGBuffer& g = out.gbuffer;
+    out.ao.assign(g.texelCount(), 1.0f);
+    out.confidence.assign(g.texelCount(), 1.0f);
+    const std::uint64_t surfaceTexels = nonEmptyTexels(g);
+    const std::uint64_t fetchesPerTexel = std::uint64_t(settings.directions) * std::uint64_t(settings.steps);
+    switch (settings.estimator) {
+        case Estimator::HorizonSplit:
+        case Estimator::Gtao:
+            horizonTexels(g, probeIndex, settings, settings.estimator, out.ao, out.confidence);
+            out.fetches = surfaceTexels * fetchesPerTexel;
+            break;
+        case Estimator::Traced:
+            out.rays = traceTexelsCpu(scene, g, probeIndex, settings, out.ao);
+            out.tracedTexels = surfaceTexels;
+            break;
+        case Estimator::Hybrid: {
+            horizonTexels(g, probeIndex, settings, Estimator::HorizonSplit, out.ao, out.confidence);
+            out.fetches = surfaceTexels * fetchesPerTexel;
+            // Empty texels have confidence 1 and so are never selected; traced texels keep their
+            // hsplit confidence, which shows where the hybrid traced.
+            std::vector<std::uint8_t> trace(g.texelCount(), 0);
+            for (std::size_t index = 0; index < trace.size(); ++index)
+                trace[index] = out.confidence[index] < settings.hybridThreshold ? 1 : 0;
+            out.rays = traceTexelsCpu(scene, g, probeIndex, settings, out.ao, trace);
+            out.tracedTexels = out.rays / std::uint64_t(settings.ao.spp);
+            break;
+        }
+    }
+    out.timings.aoMs = millisecondsSince(aoStart);
+    return out;
+}
+
+VerifyResult verifyProbe(const EmbreeScene& scene, const BakedProbe& probe, std::uint32_t probeIndex,
+                         const BakeSettings& settings) {
+    const CubeGBuffer& g = probe.gbuffer;
+    if (probe.ao.size() != g.texelCount())
+        throw Error("verifyProbe: " + std::to_string(probe.ao.size()) + " AO values for a cube of " +
+                    std::to_string(g.texelCount()) + " texels");
+    std::vector<double> error(g.texelCount(), 0.0);
+    forEachTexel(g.res, [&](int face, int i, int j, std::size_t index) {
+        const glm::vec4& texel = g.texels[index];
+        if (CubeGBuffer::empty(texel)) return;
+        const std::uint32_t key = texelKey(face, i, j, g.res, probeIndex, settings.ao.seed);
+        const float reference = ambientOcclusion(scene, g.surfacePoint(face, i, j), glm::vec3(texel), settings.ao, key).ao;
+        error[index] = std::abs(double(probe.ao[index]) - double(reference));
+    });
+    // Summed in texel order, not per thread, so the MAE is the same on any number of cores.
+    VerifyResult result;
+    double sum = 0.0;
+    for (std::size_t index = 0; index < g.texelCount(); ++index) {
+        if (CubeGBuffer::empty(g.texels[index])) continue;
+        sum += error[index];
+        ++result.texels;
+    }
+    result.mae = result.texels ? sum / double(result.texels) : 0.0;
+    return result;
+}
+
+}  // namespace cubeao

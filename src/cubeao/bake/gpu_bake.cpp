@@ -1,0 +1,292 @@
+#include "cubeao/bake/gpu_bake.h"
+
+#include <chrono>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/vec4.hpp>
+
+#include "cubeao/bake/bvh.h"
+#include "cubeao/bake/cube.h"
+#include "cubeao/bake/gpu_bvh.h"
+#include "cubeao/core/error.h"
+#include "cubeao/gl/handles.h"
+#include "cubeao/gl/shader.h"
+#include "cubeao/gl/timer.h"
+#include "cubeao/reference/embree_scene.h"
+
+namespace cubeao {
+namespace {
+
+constexpr GLuint kTraceGroup = 64;  // local_size_x of ao_traced.comp and hybrid_select.comp
+
+bool needsHorizon(Estimator e) { return e != Estimator::Traced; }
+bool needsTracing(Estimator e) { return e == Estimator::Traced || e == Estimator::Hybrid; }
+
+GLuint groups(std::size_t n, GLuint size) { return GLuint((n + size - 1) / size); }
+
+}  // namespace
+
+struct GpuBaker::Impl {
+    std::size_t triangles = 0;
+    float zNear = 0.0f, surfaceEpsilon = 0.0f;
+    GBufferMode mode = GBufferMode::Layered;
+
+    gl::Buffer positions, indices, triangleNormals, aoBuffer, texelList;
+    gl::VertexArray vao;
+    gl::Texture gbuffer, depth;
+    gl::Framebuffer framebuffer;
+    gl::Program layered, sixPass, horizon, traced, tracedList, select;
+    std::unique_ptr<GpuBvh> bvh;
+
+    void renderGBuffer(const glm::vec3& probe, int res);
+    void horizonPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
+    void tracedPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
+    std::uint32_t hybridPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
+};
+
+GpuBaker::GpuBaker(const Scene& scene, const BakeSettings& settings) : impl_(std::make_unique<Impl>()), settings_(settings) {
+    Impl& m = *impl_;
+    const int res = settings.res;
+    m.triangles = scene.indices.size() / 3;
+    m.surfaceEpsilon = surfaceEpsilonFor(scene);
+    // Anything nearer the probe than zNear is clipped: keep it far below a texel's footprint.
+    m.zNear = std::max(1e-6f, 1e-6f * glm::length(scene.bounds.max - scene.bounds.min));
+
+    // Mesh: positions + indices for rasterisation, one geometric normal per triangle (gl_PrimitiveID).
+    std::vector<glm::vec4> normals(m.triangles);
+    for (std::size_t t = 0; t < m.triangles; ++t) {
+        const glm::vec3 a = scene.positions[scene.indices[3 * t]], b = scene.positions[scene.indices[3 * t + 1]],
+                        c = scene.positions[scene.indices[3 * t + 2]];
+        const glm::vec3 n = glm::cross(b - a, c - a);
+        const float len = glm::length(n);
+        normals[t] = glm::vec4(len > 0.0f ? n / len : glm::vec3(0.0f, 1.0f, 0.0f), 0.0f);
+    }
+    m.positions = gl::Buffer::create();
+    glNamedBufferStorage(m.positions.id(), GLsizeiptr(scene.positions.size() * sizeof(glm::vec3)), scene.positions.data(), 0);
+    m.indices = gl::Buffer::create();
+    glNamedBufferStorage(m.indices.id(), GLsizeiptr(scene.indices.size() * sizeof(std::uint32_t)), scene.indices.data(), 0);
+    m.triangleNormals = gl::Buffer::create();
+    glNamedBufferStorage(m.triangleNormals.id(), GLsizeiptr(normals.size() * sizeof(glm::vec4)), normals.data(), 0);
+    m.vao = gl::VertexArray::create();
+    glVertexArrayVertexBuffer(m.vao.id(), 0, m.positions.id(), 0, sizeof(glm::vec3));
+    glVertexArrayAttribFormat(m.vao.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(m.vao.id(), 0, 0);
+    glEnableVertexArrayAttrib(m.vao.id(), 0);
+    glVertexArrayElementBuffer(m.vao.id(), m.indices.id());
+
+    // G-buffer: (normal, distance) as RGBA32F, reversed-Z float depth; six layers = six faces.
+    m.gbuffer = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(m.gbuffer.id(), 1, GL_RGBA32F, res, res, cube::kFaces);
+    m.depth = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(m.depth.id(), 1, GL_DEPTH_COMPONENT32F, res, res, cube::kFaces);
+    m.framebuffer = gl::Framebuffer::create();
+
+    const std::size_t texels = std::size_t(cube::kFaces) * std::size_t(res) * std::size_t(res);
+    m.aoBuffer = gl::Buffer::create();
+    glNamedBufferStorage(m.aoBuffer.id(), GLsizeiptr(texels * sizeof(glm::vec2)), nullptr, 0);
+
+    m.layered = gl::buildProgram({gl::loadShaderStage(GL_VERTEX_SHADER, "bake/gbuffer.vert"),
+                                  gl::loadShaderStage(GL_GEOMETRY_SHADER, "bake/gbuffer.geom"),
+                                  gl::loadShaderStage(GL_FRAGMENT_SHADER, "bake/gbuffer.frag")},
+                                 {{"LAYERED", "1"}});
+    m.sixPass = gl::compileRenderProgram("bake/gbuffer.vert", "bake/gbuffer.frag");
+    if (needsHorizon(settings.estimator)) {
+        const bool gtao = settings.estimator == Estimator::Gtao;
+        m.horizon = gl::compileComputeProgram("bake/ao_horizon.comp", {{"ESTIMATOR", gtao ? "1" : "0"}});
+    }
+    if (needsTracing(settings.estimator)) {
+        m.bvh = std::make_unique<GpuBvh>(buildBvh(scene));
+        m.traced = gl::compileComputeProgram("bake/ao_traced.comp");
+    }
+    if (settings.estimator == Estimator::Hybrid) {
+        m.tracedList = gl::compileComputeProgram("bake/ao_traced.comp", {{"TEXEL_LIST", "1"}});
+        m.select = gl::compileComputeProgram("bake/hybrid_select.comp");
+        m.texelList = gl::Buffer::create();
+        glNamedBufferStorage(m.texelList.id(), GLsizeiptr(sizeof(glm::uvec4) + texels * sizeof(std::uint32_t)), nullptr,
+                             GL_DYNAMIC_STORAGE_BIT);
+    }
+}
+
+GpuBaker::~GpuBaker() = default;
+
+void GpuBaker::setGBufferMode(GBufferMode mode) { impl_->mode = mode; }
+
+
+void GpuBaker::Impl::renderGBuffer(const glm::vec3& probe, int res) {
+    const GLfloat clearNormal[4] = {0.0f, 0.0f, 0.0f, 0.0f}, clearDepth = 0.0f;  // distance 0 = empty
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);  // reversed-Z (cube.h clipFromWorld)
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDisable(GL_CULL_FACE);  // architecture is open and two-sided
+    glViewport(0, 0, res, res);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
+    glBindVertexArray(vao.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, triangleNormals.id());
+    const auto draw = [&] { glDrawElements(GL_TRIANGLES, GLsizei(3 * triangles), GL_UNSIGNED_INT, nullptr); };
+
+    if (mode == GBufferMode::Layered) {
+        glNamedFramebufferTexture(framebuffer.id(), GL_COLOR_ATTACHMENT0, gbuffer.id(), 0);
+        glNamedFramebufferTexture(framebuffer.id(), GL_DEPTH_ATTACHMENT, depth.id(), 0);
+        glClearNamedFramebufferfv(framebuffer.id(), GL_COLOR, 0, clearNormal);  // clears all layers
+        glClearNamedFramebufferfv(framebuffer.id(), GL_DEPTH, 0, &clearDepth);
+        glm::mat4 clip[cube::kFaces];
+        for (int f = 0; f < cube::kFaces; ++f) clip[f] = cube::clipFromWorld(f, probe, zNear);
+        glUseProgram(layered.id());
+        glProgramUniformMatrix4fv(layered.id(), glGetUniformLocation(layered.id(), "clipFromWorld"), cube::kFaces,
+                                  GL_FALSE, glm::value_ptr(clip[0]));
+        glProgramUniform3fv(layered.id(), glGetUniformLocation(layered.id(), "probe"), 1, glm::value_ptr(probe));
+        draw();
+    } else {
+        glUseProgram(sixPass.id());
+        glProgramUniform3fv(sixPass.id(), glGetUniformLocation(sixPass.id(), "probe"), 1, glm::value_ptr(probe));
+        for (int f = 0; f < cube::kFaces; ++f) {
+            glNamedFramebufferTextureLayer(framebuffer.id(), GL_COLOR_ATTACHMENT0, gbuffer.id(), 0, f);
+            glNamedFramebufferTextureLayer(framebuffer.id(), GL_DEPTH_ATTACHMENT, depth.id(), 0, f);
+            glClearNamedFramebufferfv(framebuffer.id(), GL_COLOR, 0, clearNormal);
+            glClearNamedFramebufferfv(framebuffer.id(), GL_DEPTH, 0, &clearDepth);
+            const glm::mat4 clip = cube::clipFromWorld(f, probe, zNear);
+            glProgramUniformMatrix4fv(sixPass.id(), glGetUniformLocation(sixPass.id(), "clipFromWorld"), 1, GL_FALSE,
+                                      glm::value_ptr(clip));
+            draw();
+        }
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glDepthFunc(GL_LESS);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+}
+
+namespace {
+
+void setUniform(GLuint program, const char* name, int v) { glProgramUniform1i(program, glGetUniformLocation(program, name), v); }
+void setUniform(GLuint program, const char* name, std::uint32_t v) {
+    glProgramUniform1ui(program, glGetUniformLocation(program, name), v);
+}
+void setUniform(GLuint program, const char* name, float v) { glProgramUniform1f(program, glGetUniformLocation(program, name), v); }
+void setUniform(GLuint program, const char* name, const glm::vec3& v) {
+    glProgramUniform3fv(program, glGetUniformLocation(program, name), 1, glm::value_ptr(v));
+}
+
+// Uniforms every AO pass shares (unused ones are skipped by GL: location −1 is ignored).
+void setAoUniforms(GLuint program, const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
+    setUniform(program, "probe", probe);
+    setUniform(program, "res", s.res);
+    setUniform(program, "radius", s.ao.radius);
+    setUniform(program, "falloff", s.ao.falloff == Falloff::Smooth ? 1 : 0);
+    setUniform(program, "probeKey", probeKey);
+    setUniform(program, "directions", s.directions);
+    setUniform(program, "steps", s.steps);
+    setUniform(program, "spp", s.ao.spp);
+}
+
+}  // namespace
+
+void GpuBaker::Impl::horizonPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
+    setAoUniforms(horizon.id(), probe, probeKey, s);
+    glUseProgram(horizon.id());
+    glBindTextureUnit(0, gbuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, aoBuffer.id());
+    glDispatchCompute(groups(std::size_t(s.res), 8), groups(std::size_t(s.res), 8), cube::kFaces);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+void GpuBaker::Impl::tracedPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
+    setAoUniforms(traced.id(), probe, probeKey, s);
+    setUniform(traced.id(), "surfaceEpsilon", surfaceEpsilon);
+    glUseProgram(traced.id());
+    glBindTextureUnit(0, gbuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, aoBuffer.id());
+    bvh->bind(10, 11);
+    glDispatchCompute(groups(std::size_t(cube::kFaces) * std::size_t(s.res) * std::size_t(s.res), kTraceGroup), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+std::uint32_t GpuBaker::Impl::hybridPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
+    horizonPass(probe, probeKey, s);
+    const glm::uvec4 header(0u, 1u, 1u, 0u);  // indirect dispatch (x, y, z) + count
+    glNamedBufferSubData(texelList.id(), 0, sizeof header, &header);
+    setUniform(select.id(), "res", s.res);
+    setUniform(select.id(), "threshold", s.hybridThreshold);
+    glUseProgram(select.id());
+    glBindTextureUnit(0, gbuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, aoBuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, texelList.id());
+    glDispatchCompute(groups(std::size_t(cube::kFaces) * std::size_t(s.res) * std::size_t(s.res), kTraceGroup), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+
+    setAoUniforms(tracedList.id(), probe, probeKey, s);
+    setUniform(tracedList.id(), "surfaceEpsilon", surfaceEpsilon);
+    glUseProgram(tracedList.id());
+    bvh->bind(10, 11);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, texelList.id());
+    glDispatchComputeIndirect(0);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    glm::uvec4 done;
+    glGetNamedBufferSubData(texelList.id(), 0, sizeof done, &done);
+    return done.w;
+}
+
+BakedProbe GpuBaker::bake(const glm::vec3& probe, std::uint32_t probeIndex) {
+    Impl& m = *impl_;
+    const BakeSettings& s = settings_;
+    const std::uint32_t probeKey = probeIndex ^ s.ao.seed;
+    BakedProbe out;
+    out.timings.gbufferMs = gl::timeGpu([&] { m.renderGBuffer(probe, s.res); }).ms();
+
+    std::uint32_t traced = 0;
+    out.timings.aoMs = gl::timeGpu([&] {
+                           switch (s.estimator) {
+                               case Estimator::HorizonSplit:
+                               case Estimator::Gtao: m.horizonPass(probe, probeKey, s); break;
+                               case Estimator::Traced: m.tracedPass(probe, probeKey, s); break;
+                               case Estimator::Hybrid: traced = m.hybridPass(probe, probeKey, s); break;
+                           }
+                       }).ms();
+
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t texels = std::size_t(cube::kFaces) * std::size_t(s.res) * std::size_t(s.res);
+    out.gbuffer.res = s.res;
+    out.gbuffer.probe = probe;
+    out.gbuffer.texels.resize(texels);
+    glGetTextureImage(m.gbuffer.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(texels * sizeof(glm::vec4)), out.gbuffer.texels.data());
+    std::vector<glm::vec2> aoConfidence(texels);
+    glGetNamedBufferSubData(m.aoBuffer.id(), 0, GLsizeiptr(texels * sizeof(glm::vec2)), aoConfidence.data());
+    out.timings.readbackMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+
+    out.ao.resize(texels);
+    out.confidence.resize(texels);
+    std::uint64_t surfaceTexels = 0;
+    for (std::size_t i = 0; i < texels; ++i) {
+        out.ao[i] = aoConfidence[i].x;
+        out.confidence[i] = aoConfidence[i].y;
+        surfaceTexels += CubeGBuffer::empty(out.gbuffer.texels[i]) ? 0 : 1;
+    }
+    const std::uint64_t marchPoints = std::uint64_t(s.steps) * std::uint64_t(s.directions);
+    switch (s.estimator) {
+        case Estimator::HorizonSplit:
+        case Estimator::Gtao: out.fetches = surfaceTexels * marchPoints; break;
+        case Estimator::Traced: out.tracedTexels = surfaceTexels; break;
+        case Estimator::Hybrid:
+            out.fetches = surfaceTexels * marchPoints;
+            out.tracedTexels = traced;
+            break;
+    }
+    out.rays = out.tracedTexels * std::uint64_t(s.ao.spp);
+    return out;
+}
+
+std::vector<glm::vec2> GpuBaker::horizonOn(const CubeGBuffer& g, std::uint32_t probeIndex) {
+    Impl& m = *impl_;
+    if (!m.horizon) throw Error("GpuBaker::horizonOn needs the hsplit or gtao estimator");
+    if (g.res != settings_.res) throw Error("GpuBaker::horizonOn: G-buffer resolution differs from the settings'");
+    glTextureSubImage3D(m.gbuffer.id(), 0, 0, 0, 0, g.res, g.res, cube::kFaces, GL_RGBA, GL_FLOAT, g.texels.data());
+    m.horizonPass(g.probe, probeIndex ^ settings_.ao.seed, settings_);
+    std::vector<glm::vec2> out(g.texelCount());
+    glGetNamedBufferSubData(m.aoBuffer.id(), 0, GLsizeiptr(out.size() * sizeof(glm::vec2)), out.data());
+    return out;
+}
+
+}  // namespace cubeao

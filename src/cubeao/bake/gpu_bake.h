@@ -1,0 +1,49 @@
+// The GPU bake path (DESIGN.md §4 "Bake"): the scene rasterised into a cube G-buffer (a 6-layer
+// RGBA32F array texture: normal facing the probe, distance), then one compute pass per estimator
+// writing (ao, confidence) per texel. Twin: the CPU path in bake.h; tests/test_bake_gl.cpp checks
+// that the two agree.
+//
+// A GpuBaker needs a current GL 4.5 context for its whole life (it owns GL objects).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include <glm/vec3.hpp>
+
+#include "cubeao/bake/bake.h"
+#include "cubeao/scene/scene.h"
+
+namespace cubeao {
+
+enum class GBufferMode {
+    Layered,  // one draw; a geometry shader routes each triangle to the faces it can touch
+    SixPass,  // one draw per face
+};
+
+class GpuBaker {
+public:
+    // Uploads the mesh (and for traced/hybrid a BVH), compiles the programs. `settings` resolved.
+    GpuBaker(const Scene& scene, const BakeSettings& settings);
+    ~GpuBaker();
+    GpuBaker(const GpuBaker&) = delete;
+    GpuBaker& operator=(const GpuBaker&) = delete;
+
+    void setGBufferMode(GBufferMode mode);
+
+    // G-buffer, AO, read-back of both; timings per stage (see BakedProbe::timings).
+    BakedProbe bake(const glm::vec3& probe, std::uint32_t probeIndex);
+
+    // For tests: the horizon pass alone on a given G-buffer (uploaded), returning (ao, confidence)
+    // per texel; the estimator must be hsplit or gtao.
+    std::vector<glm::vec2> horizonOn(const CubeGBuffer& g, std::uint32_t probeIndex);
+
+    const BakeSettings& settings() const { return settings_; }
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+    BakeSettings settings_;
+};
+
+}  // namespace cubeao

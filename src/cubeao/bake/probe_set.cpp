@@ -1,0 +1,61 @@
+#include "cubeao/bake/probe_set.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "cubeao/core/error.h"
+
+namespace cubeao {
+
+std::vector<ProbeSpec> readProbeSet(const std::filesystem::path& file) {
+    std::ifstream in(file);
+    if (!in) throw Error(file.string() + ": cannot open probe set");
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+        throw Error(file.string() + ": not valid JSON (" + e.what() + ")");
+    }
+    const std::string where = file.string() + ": ";
+    if (!j.is_object() || !j.contains("version") || !j["version"].is_number_integer())
+        throw Error(where + "expected an object with an integer \"version\"");
+    if (j["version"].get<int>() != 1)
+        throw Error(where + "probe-set version " + j["version"].dump() + " is not supported (this build reads version 1)");
+    if (!j.contains("probes") || !j["probes"].is_array()) throw Error(where + "expected a \"probes\" array");
+    std::vector<ProbeSpec> probes;
+    for (std::size_t i = 0; i < j["probes"].size(); ++i) {
+        const auto& p = j["probes"][i];
+        const std::string item = where + "probe " + std::to_string(i) + ": ";
+        if (!p.is_object() || !p.contains("pos") || !p["pos"].is_array() || p["pos"].size() != 3)
+            throw Error(item + "expected {\"pos\": [x, y, z]}");
+        ProbeSpec spec;
+        for (int k = 0; k < 3; ++k) {
+            if (!p["pos"][k].is_number()) throw Error(item + "position components must be numbers");
+            const double v = p["pos"][k].get<double>();
+            if (!std::isfinite(v) || std::fabs(v) > 1e30) throw Error(item + "position is not finite");
+            spec.position[k] = float(v);
+        }
+        probes.push_back(spec);
+    }
+    if (probes.empty()) throw Error(where + "no probes");
+    return probes;
+}
+
+void writeProbeSet(const std::filesystem::path& file, const std::vector<ProbeSpec>& probes) {
+    nlohmann::json j{{"version", 1}, {"probes", nlohmann::json::array()}};
+    for (const auto& p : probes) j["probes"].push_back({{"pos", {p.position.x, p.position.y, p.position.z}}});
+    const std::filesystem::path tmp = file.string() + ".tmp";
+    {
+        std::ofstream out(tmp);
+        out << j.dump(1) << "\n";
+        if (!out) throw Error(tmp.string() + ": cannot write");
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, file, ec);
+    if (ec) throw Error(file.string() + ": cannot replace (" + ec.message() + ")");
+}
+
+}  // namespace cubeao

@@ -1,0 +1,174 @@
+// cubeao bench bake: where a probe bake spends its time, per estimator and device, in one run (so the
+// figures compare as ratios on a noisy machine). On llvmpipe the "GPU" is this CPU: the GPU/Embree
+// ratio there says how GPU-shaped code runs on a CPU, not what a GPU does (../shared/gpu/README.md).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+
+#include "commands.h"
+#include "cubeao/bake/bake.h"
+#include "cubeao/bake/gpu_bake.h"
+#include "cubeao/core/error.h"
+#include "cubeao/gl/context.h"
+#include "cubeao/scene/builtin.h"
+#include "cubeao/scene/import.h"
+
+namespace cubeao::cli {
+namespace {
+
+struct BenchArgs {
+    std::vector<std::string> scenes{"builtin:cloister"}, cameras, estimators{"hsplit", "gtao", "traced", "hybrid"},
+        devices{"gpu", "cpu"};
+    int res = 512, spp = 64, probes = 2;
+    bool json = false;
+};
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+// Probes where a person walks: camera positions spread evenly along the scene's path.
+std::vector<glm::vec3> probePositions(const std::string& scene, const std::string& camera, int count) {
+    const CameraPath path = resolveCameraPath(camera, scene);
+    std::vector<glm::vec3> out;
+    for (int i = 0; i < count; ++i)
+        out.push_back(path.frames[std::size_t(i) * path.frames.size() / std::size_t(count)].eye);
+    return out;
+}
+
+struct RunStats {
+    std::vector<double> total, gbuffer, ao, readback;
+    std::uint64_t rays = 0, fetches = 0, traced = 0, surface = 0;
+    double rayMs = 0.0;
+
+    void add(const BakedProbe& p, double ms) {
+        total.push_back(ms);
+        gbuffer.push_back(p.timings.gbufferMs);
+        ao.push_back(p.timings.aoMs);
+        readback.push_back(p.timings.readbackMs);
+        rays += p.rays;
+        fetches += p.fetches;
+        traced += p.tracedTexels;
+        for (const auto& t : p.gbuffer.texels) surface += CubeGBuffer::empty(t) ? 0 : 1;
+        if (p.rays) rayMs += p.timings.aoMs;
+    }
+    nlohmann::json json() const {
+        const double s = double(std::max<std::uint64_t>(surface, 1));
+        return {{"ms_per_probe", median(total)},
+                {"gbuffer_ms", median(gbuffer)},
+                {"ao_ms", median(ao)},
+                {"readback_ms", median(readback)},
+                {"rays_per_s", rayMs > 0.0 ? double(rays) / (rayMs * 1e-3) : 0.0},
+                {"rays_per_texel", double(rays) / s},
+                {"fetches_per_texel", double(fetches) / s},
+                {"traced_fraction", double(traced) / s}};
+    }
+};
+
+template <class F>
+double timeMs(F&& f) {
+    const auto start = std::chrono::steady_clock::now();
+    f();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+nlohmann::json benchScene(const BenchArgs& a, const std::string& spec, const std::string& camera,
+                          const std::optional<gl::HeadlessContext>& context) {
+    const Scene scene = loadScene(spec);
+    const std::vector<glm::vec3> probes = probePositions(spec, camera, a.probes);
+    const EmbreeScene embree(scene);
+    nlohmann::json runs = nlohmann::json::array(), gbufferModes = nlohmann::json::object();
+    for (const std::string& device : a.devices) {
+        if (device == "gpu" && !context) continue;
+        for (const std::string& estimator : a.estimators) {
+            BakeSettings s;
+            s.res = a.res;
+            s.ao.spp = a.spp;
+            s.estimator = parseEstimator(estimator);
+            s.device = parseBakeDevice(device);
+            s = resolveBakeSettings(s, scene.defaultRadius());
+            RunStats stats;
+            std::unique_ptr<GpuBaker> gpu;
+            double setupMs = 0.0;
+            if (device == "gpu") setupMs = timeMs([&] { gpu = std::make_unique<GpuBaker>(scene, s); });
+            for (std::size_t i = 0; i < probes.size(); ++i) {
+                BakedProbe p;
+                const double ms = timeMs([&] {
+                    p = gpu ? gpu->bake(probes[i], std::uint32_t(i)) : bakeProbeCpu(embree, probes[i], std::uint32_t(i), s);
+                });
+                stats.add(p, ms);
+            }
+            if (gpu && gbufferModes.empty()) {  // G-buffer mode is independent of the estimator: once per scene
+                for (const auto& [name, mode] : {std::pair{"layered", GBufferMode::Layered}, std::pair{"six_pass", GBufferMode::SixPass}}) {
+                    gpu->setGBufferMode(mode);
+                    std::vector<double> ms;
+                    for (std::size_t i = 0; i < probes.size(); ++i) ms.push_back(gpu->bake(probes[i], 0).timings.gbufferMs);
+                    gbufferModes[name] = median(ms);
+                }
+            }
+            nlohmann::json run = stats.json();
+            run["device"] = device;
+            run["estimator"] = estimator;
+            run["setup_ms"] = setupMs;  // GPU: upload, BVH build, shader compilation
+            std::printf("  %-4s %-7s %9.1f ms/probe  (G-buffer %8.1f, AO %9.1f, read-back %6.1f)  %7.2f Mrays/s  %5.1f fetches/texel  traced %5.1f%%\n",
+                        device.c_str(), estimator.c_str(), run["ms_per_probe"].get<double>(), run["gbuffer_ms"].get<double>(),
+                        run["ao_ms"].get<double>(), run["readback_ms"].get<double>(), run["rays_per_s"].get<double>() * 1e-6,
+                        run["fetches_per_texel"].get<double>(), 100.0 * run["traced_fraction"].get<double>());
+            std::fflush(stdout);
+            runs.push_back(run);
+        }
+    }
+    return {{"scene", scene.source}, {"triangles", scene.triangleCount()}, {"radius", scene.defaultRadius()},
+            {"probes", probes.size()}, {"gbuffer_modes_ms", gbufferModes}, {"runs", runs}};
+}
+
+void runBake(const BenchArgs& a) {
+    if (!a.cameras.empty() && a.cameras.size() != a.scenes.size())
+        throw UsageError("--camera: give one per --scene (or none for built-in scenes)");
+    if (a.probes < 1) throw UsageError("--probes must be at least 1");
+    std::string whyNot;
+    std::optional<gl::HeadlessContext> context;
+    if (std::find(a.devices.begin(), a.devices.end(), "gpu") != a.devices.end()) {
+        context = gl::HeadlessContext::tryCreate(&whyNot);
+        if (!context) spdlog::warn("bench: no GL context ({}); GPU runs skipped", whyNot);
+    }
+    nlohmann::json scenes = nlohmann::json::array();
+    for (std::size_t i = 0; i < a.scenes.size(); ++i) {
+        std::printf("%s at %d² per face, %d spp, %d probes:\n", a.scenes[i].c_str(), a.res, a.spp, a.probes);
+        scenes.push_back(benchScene(a, a.scenes[i], a.cameras.empty() ? "" : a.cameras[i], context));
+    }
+    nlohmann::json result = {{"bench", "bake"},
+                             {"res", a.res},
+                             {"spp", a.spp},
+                             {"renderer", context ? context->renderer() : "none"},
+                             {"cpu_threads", std::thread::hardware_concurrency()},
+                             {"scenes", scenes}};
+    if (a.json) printJson(result);
+}
+
+}  // namespace
+
+void addBench(CLI::App& app) {
+    auto* bench = app.add_subcommand("bench", "Timings as JSON");
+    bench->require_subcommand(1);
+    auto* cmd = bench->add_subcommand("bake", "Probe bake: ms per probe by stage, estimator and device");
+    auto a = std::make_shared<BenchArgs>();
+    cmd->add_option("--scene", a->scenes, "Scenes (repeatable)")->capture_default_str();
+    cmd->add_option("--camera", a->cameras, "Camera path per scene: probes go to its eye positions");
+    cmd->add_option("--estimator", a->estimators, "Estimators to time (repeatable)")->capture_default_str();
+    cmd->add_option("--device", a->devices, "gpu and/or cpu")->capture_default_str();
+    cmd->add_option("--res", a->res, "Face resolution")->capture_default_str()->check(CLI::Range(4, 4096));
+    cmd->add_option("--spp", a->spp, "Rays per traced texel")->capture_default_str()->check(CLI::PositiveNumber);
+    cmd->add_option("--probes", a->probes, "Probes per scene")->capture_default_str();
+    cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
+    cmd->callback([a] { runBake(*a); });
+}
+
+}  // namespace cubeao::cli
