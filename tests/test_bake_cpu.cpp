@@ -199,8 +199,10 @@ TEST(CpuBakeGBuffer, EmptyTexelsAreOpenAndCountsAddUp) {
             EXPECT_EQ(b.confidence[index], 1.0f);
         }
         ASSERT_GT(surface, 0u);
-        const bool horizon = e != Estimator::Traced;
-        EXPECT_EQ(b.fetches, horizon ? surface * 4u * 3u : 0u);
+        // Open floor: GTAO looks once per march point; horizon-split twice (the horizon's height,
+        // then the top of the R-ball for an overhang) and never bisects.
+        const std::uint64_t perPoint = e == Estimator::Traced ? 0u : e == Estimator::Gtao ? 1u : 2u;
+        EXPECT_EQ(b.fetches, surface * 4u * 3u * perPoint);
         EXPECT_EQ(b.rays, b.tracedTexels * 8u);
         if (e == Estimator::Traced) {
             EXPECT_EQ(b.tracedTexels, surface);
@@ -299,10 +301,34 @@ TEST(HorizonWall, HorizonEstimatorsMatchTheHeightFieldAnswer) {
         biasSplit += (split - exact) / double(near.size());
         biasGtao += (gtao - exact) / double(near.size());
     }
-    // The probe looks straight down at p, so GTAO's view vector is the normal and its slices are
-    // horizon-split's: both must agree on the bias (measured +0.010 and +0.0095).
-    EXPECT_NEAR(biasSplit, 0.010, 0.005);
+    // Both find the wall's horizon to within a step and a texel, from below: AO comes out high.
+    // GTAO (view vector = normal here) keeps the highest wall point seen (measured bias +0.0095);
+    // horizon-split bisects the height field above each march point and also keeps the wall points
+    // it sees inside its slice (measured +0.0046).
+    EXPECT_NEAR(biasSplit, 0.005, 0.005);
     EXPECT_NEAR(biasGtao, 0.010, 0.005);
+}
+
+// The same wall seen obliquely: the probe stands 2 m out from the wall and 1.5 m up, off to the side
+// of p, so rays from the probe to p's tangent plane cross the wall only low down. Marching the
+// tangent plane alone (the first version of this estimator) found a horizon far too low here (mean
+// AO bias +0.158, 0.94 against 0.755 at the nearest texels); asking the probe about points above
+// each march point finds it (measured bias −0.001, 128², 32 × 32).
+TEST(HorizonWall, ObliqueProbeStillFindsTheHeightField) {
+    const BakeSettings s = settingsFor(Estimator::HorizonSplit, 128, kWallRadius, 64, 32, 32);
+    const glm::vec3 probe(2.0f, 1.5f, 1.2f);
+    const CubeGBuffer g = renderGBufferCpu(floorAndWall(), probe, s.res);
+    const std::vector<std::size_t> near = texelsNear(g, kWallPoint, kUp, 0.1f);
+    ASSERT_GE(near.size(), 4u);
+    double bias = 0.0;
+    for (std::size_t index : near) {
+        const TexelId id = texelId(index, s.res);
+        const glm::vec3 p = g.surfacePoint(id.face, id.i, id.j);
+        const float split = horizonSplitAo(g, p, kUp, s, texelKey(id.face, id.i, id.j, s.res, 1, s.ao.seed)).ao;
+        EXPECT_NEAR(split, wallAo(p.x, kWallRadius), 0.03) << "x = " << p.x << ", z = " << p.z;
+        bias += (split - wallAo(p.x, kWallRadius)) / double(near.size());
+    }
+    EXPECT_LT(std::fabs(bias), 0.01);
 }
 
 TEST(CpuBakeTraced, WallAndHybridMatchTheHeightFieldAnswer) {
@@ -315,16 +341,16 @@ TEST(CpuBakeTraced, WallAndHybridMatchTheHeightFieldAnswer) {
         for (std::size_t index : near) {
             const TexelId id = texelId(index, s.res);
             const glm::vec3 p = b.gbuffer.surfacePoint(id.face, id.i, id.j);
-            // 0.03 (brief): 256 stratified rays at AO ≈ 0.8 (iid standard error 0.025; measured
-            // |error| ≤ 0.003 at the 4 texels).
-            EXPECT_NEAR(b.ao[index], wallAo(p.x, kWallRadius), 0.03) << "x = " << p.x << ", z = " << p.z;
-            // The hybrid traces here: march points beyond the wall see it above the R-sphere, which
-            // could hide an occluder, so hsplit's confidence (≈ 0.94) is below the 0.95 threshold.
-            if (e == Estimator::Hybrid) {
-                EXPECT_LT(b.confidence[index], s.hybridThreshold);
-            }
+            // Traced, 0.03 (brief): 256 stratified rays at AO ≈ 0.8 (iid standard error 0.025;
+            // measured |error| ≤ 0.003 at the 4 texels). Hybrid: the wall is a height field the probe
+            // sees, so confidence is high and the hybrid keeps horizon-split's answer, whose
+            // discretisation bias at 64² and 16 × 16 is +0.04 to +0.05 here (see HorizonWall): 0.06.
+            const bool traced = e == Estimator::Traced || b.confidence[index] < s.hybridThreshold;
+            EXPECT_NEAR(b.ao[index], wallAo(p.x, kWallRadius), traced ? 0.03 : 0.06) << "x = " << p.x << ", z = " << p.z;
         }
-        EXPECT_GT(b.tracedTexels, 0u);
+        if (e == Estimator::Traced) {
+            EXPECT_GT(b.tracedTexels, 0u);
+        }
     }
 }
 

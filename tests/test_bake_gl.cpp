@@ -120,7 +120,8 @@ void expectHorizonTwin(Estimator e) {
     const BakeSettings s = settingsFor(e, 32, 1.0f);
     GpuBaker baker(scene, s);
     const CubeGBuffer g = renderGBufferCpu(EmbreeScene(scene), kBoxProbe, s.res);
-    const std::vector<glm::vec2> gpu = baker.horizonOn(g, 3);
+    std::uint64_t gpuFetches = 0, cpuFetches = 0;
+    const std::vector<glm::vec2> gpu = baker.horizonOn(g, 3, &gpuFetches);
     double sumAo = 0.0;
     std::size_t far = 0, surface = 0;
     for (int f = 0; f < cube::kFaces; ++f)
@@ -131,6 +132,7 @@ void expectHorizonTwin(Estimator e) {
                 const glm::vec3 p = g.surfacePoint(f, i, j), n(g.texels[t]);
                 const std::uint32_t key = texelKey(f, i, j, s.res, 3, s.ao.seed);
                 const HorizonEstimate cpu = e == Estimator::Gtao ? gtaoAo(g, p, n, s, key) : horizonSplitAo(g, p, n, s, key);
+                cpuFetches += cpu.fetches;
                 const float d = std::fabs(cpu.ao - gpu[t].x);
                 sumAo += d;
                 far += d > 1e-3f ? 1 : 0;
@@ -140,6 +142,8 @@ void expectHorizonTwin(Estimator e) {
             }
     EXPECT_LT(sumAo / double(surface), 1e-3) << estimatorName(e);
     EXPECT_LE(far, surface / 100) << estimatorName(e) << ": texels differing by more than 1e-3";
+    // The same decisions make the same lookups, up to the rare border flips above.
+    EXPECT_NEAR(double(gpuFetches), double(cpuFetches), 0.01 * double(cpuFetches)) << estimatorName(e);
 }
 
 TEST_F(GlTest, HorizonSplitPassMatchesTheCppTwin) { expectHorizonTwin(Estimator::HorizonSplit); }

@@ -18,16 +18,22 @@ struct HorizonParams {
     int falloff;
 };
 
-struct MarchSample {
+// Bisection steps for the height field's top above a march point (its height to R/32 at most).
+const int kBisections = 4;
+const int SEEN_OPEN = 0, SEEN_SOLID = 1, SEEN_UNKNOWN = 2;
+
+// One G-buffer lookup in the direction of y: the surface q the probe sees there, as evidence about y.
+struct Lookup {
+    int seen;
     bool occluder;
     bool hidden;
     vec3 v;
     float distance;
 };
 
-MarchSample marchSample(HorizonParams hp, vec3 p, vec3 n, vec3 x) {
-    MarchSample m = MarchSample(false, false, vec3(0.0), 0.0);
-    vec3 d = x - hp.probe;
+Lookup look(HorizonParams hp, vec3 p, vec3 n, vec3 y) {
+    Lookup m = Lookup(SEEN_OPEN, false, false, vec3(0.0), 0.0);
+    vec3 d = y - hp.probe;
     vec2 sc;
     int face = cubeFaceOf(d, sc);
     ivec2 t = cubeTexelOf(sc, hp.res);
@@ -36,12 +42,14 @@ MarchSample marchSample(HorizonParams hp, vec3 p, vec3 n, vec3 x) {
     vec3 q = hp.probe + normalize(cubeFaceDirection(face, cubeTexelCentre(t, hp.res))) * texel.w;
     m.v = q - p;
     m.distance = length(m.v);
-    float dx = length(d);
-    // Above the tangent plane by more than rounding of positions computed from the probe.
-    bool above = dot(m.v, n) > 1e-5 * (length(hp.probe) + dx);
+    float dy = length(d);
+    bool above = dot(m.v, n) > 1e-5 * (length(hp.probe) + dy);  // by more than rounding
     m.occluder = above && m.distance <= hp.radius && m.distance > 1e-4 * hp.radius;
-    float slack = dx * 4.0 / float(hp.res);
-    m.hidden = texel.w < dx - slack && above && m.distance > hp.radius;
+    bool behind = texel.w < dy - dy * 4.0 / float(hp.res);
+    m.hidden = behind && above && m.distance > hp.radius;
+    vec3 w = q - y;
+    if (behind && above)
+        m.seen = m.distance <= hp.radius || dot(w, w) <= hp.radius * hp.radius ? SEEN_SOLID : SEEN_UNKNOWN;
     return m;
 }
 
@@ -51,35 +59,77 @@ float stepDistance(int step, int steps, float jitter, float radius) {
 
 vec2 horizonJitter(uint key) { return vec2(toUnitFloat(hash32(key)), toUnitFloat(hash32(key ^ 0x68e31da4u))); }
 
-// Horizon-split AO, Oswald ch. 4 eq. 4.3: returns (ao, confidence).
-vec2 horizonSplitAo(HorizonParams hp, vec3 p, vec3 n, uint key) {
+// A slice's running horizon: sin² h, tan h and the falloff-weighted sum of its rises.
+struct Horizon {
+    float sin2;
+    float tanH;
+    float slice;
+};
+
+Horizon raisedHorizon(Horizon h, HorizonParams hp, float e2, float dist) {
+    if (!(e2 > h.sin2)) return h;
+    return Horizon(e2, sqrt(e2 / max(1.0 - e2, 1e-12)), h.slice + (e2 - h.sin2) * occlusionWeight(hp.falloff, dist, hp.radius));
+}
+
+// Looks y up, lets an occluder it reveals raise the horizon, returns what is known about y.
+// Only occluders inside the slice's wedge of azimuths (cos of its half-angle: cosWedge) count.
+int seen(HorizonParams hp, vec3 p, vec3 n, vec3 dir, float cosWedge, vec3 y, inout Horizon h, inout uint fetches) {
+    ++fetches;
+    Lookup m = look(hp, p, n, y);
+    vec3 level = m.v - n * dot(m.v, n);
+    if (m.occluder && dot(level, dir) >= cosWedge * length(level)) {
+        float e = dot(m.v, n) / m.distance;
+        h = raisedHorizon(h, hp, e * e, m.distance);
+    }
+    return m.seen;
+}
+
+// Horizon-split AO, Oswald ch. 4 eq. 4.3, over the height field found above each march point
+// (src/cubeao/bake/horizon.h): returns (ao, confidence).
+vec2 horizonSplitAo(HorizonParams hp, vec3 p, vec3 n, uint key, inout uint fetches) {
     vec2 jitter = horizonJitter(key);
     vec3 t1, t2;
     orthonormalBasis(n, t1, t2);
     float obscurance = 0.0;
-    int hidden = 0;
+    int doubtful = 0;
+    float cosWedge = cos(kPi / float(hp.directions));
     for (int k = 0; k < hp.directions; ++k) {
         float phi = 2.0 * kPi * (float(k) + jitter.x) / float(hp.directions);
         vec3 dir = cos(phi) * t1 + sin(phi) * t2;
-        float sin2 = 0.0, slice = 0.0;
+        Horizon h = Horizon(0.0, 0.0, 0.0);
         for (int s = 0; s < hp.steps; ++s) {
-            MarchSample m = marchSample(hp, p, n, p + dir * stepDistance(s, hp.steps, jitter.y, hp.radius));
-            hidden += m.hidden ? 1 : 0;
-            if (!m.occluder) continue;
-            float e = dot(m.v, n) / m.distance, e2 = e * e;
-            if (e2 > sin2) {
-                slice += (e2 - sin2) * occlusionWeight(hp.falloff, m.distance, hp.radius);
-                sin2 = e2;
+            float r = stepDistance(s, hp.steps, jitter.y, hp.radius);
+            vec3 x = p + dir * r;
+            float top = sqrt(max(0.0, hp.radius * hp.radius - r * r));
+            float lo = r * h.tanH;
+            if (lo >= top) continue;
+            int atLo = seen(hp, p, n, dir, cosWedge, x + n * lo, h, fetches);
+            if (atLo != SEEN_SOLID) {
+                doubtful += atLo == SEEN_UNKNOWN || seen(hp, p, n, dir, cosWedge, x + n * top, h, fetches) == SEEN_SOLID ? 1 : 0;
+                continue;
             }
+            float hi = top;
+            if (seen(hp, p, n, dir, cosWedge, x + n * top, h, fetches) != SEEN_SOLID) {
+                for (int i = 0; i < kBisections; ++i) {
+                    float mid = 0.5 * (lo + hi);
+                    if (seen(hp, p, n, dir, cosWedge, x + n * mid, h, fetches) == SEEN_SOLID)
+                        lo = mid;
+                    else
+                        hi = mid;
+                }
+                hi = 0.5 * (lo + hi);
+            }
+            h = raisedHorizon(h, hp, hi * hi / (r * r + hi * hi), sqrt(r * r + hi * hi));
         }
-        obscurance += slice;
+        obscurance += h.slice;
     }
-    return vec2(1.0 - obscurance / float(hp.directions), 1.0 - float(hidden) / float(hp.directions * hp.steps));
+    return vec2(1.0 - obscurance / float(hp.directions), 1.0 - float(doubtful) / float(hp.directions * hp.steps));
 }
 
 // GTAO, Jimenez et al. 2016 (paper 002) eq. 10 with the projected-normal weight; the view vector is
 // the direction to the probe. Returns (ao, confidence).
-vec2 gtaoAo(HorizonParams hp, vec3 p, vec3 n, uint key) {
+vec2 gtaoAo(HorizonParams hp, vec3 p, vec3 n, uint key, inout uint fetches) {
+    fetches += uint(hp.directions * hp.steps);
     vec2 jitter = horizonJitter(key);
     vec3 view = normalize(hp.probe - p);
     vec3 a1, a2;
@@ -102,7 +152,7 @@ vec2 gtaoAo(HorizonParams hp, vec3 p, vec3 n, uint key) {
             float horizonCos = low;
             for (int s = 0; s < hp.steps; ++s) {
                 vec3 x = p + float(side) * dir * stepDistance(s, hp.steps, jitter.y, hp.radius);
-                MarchSample m = marchSample(hp, p, n, x);
+                Lookup m = look(hp, p, n, x);
                 hidden += m.hidden ? 1 : 0;
                 if (!m.occluder) continue;
                 float c = dot(m.v, view) / m.distance;

@@ -3,6 +3,8 @@
 // G-buffer entry), so the result does not depend on the thread count or the schedule.
 #include "cubeao/bake/bake.h"
 
+#include <atomic>
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -39,9 +41,11 @@ std::uint64_t nonEmptyTexels(const CubeGBuffer& g) {
     return count;
 }
 
-// AO and confidence of every non-empty texel by a horizon estimator (HorizonSplit or Gtao).
-void horizonTexels(const CubeGBuffer& g, std::uint32_t probeIndex, const BakeSettings& s, Estimator estimator,
-                   std::vector<float>& ao, std::vector<float>& confidence) {
+// AO and confidence of every non-empty texel by a horizon estimator (HorizonSplit or Gtao); returns
+// the G-buffer lookups made.
+std::uint64_t horizonTexels(const CubeGBuffer& g, std::uint32_t probeIndex, const BakeSettings& s, Estimator estimator,
+                            std::vector<float>& ao, std::vector<float>& confidence) {
+    std::atomic<std::uint64_t> fetches{0};
     forEachTexel(g.res, [&](int face, int i, int j, std::size_t index) {
         const glm::vec4& texel = g.texels[index];
         if (CubeGBuffer::empty(texel)) return;
@@ -51,7 +55,9 @@ void horizonTexels(const CubeGBuffer& g, std::uint32_t probeIndex, const BakeSet
                                                                : horizonSplitAo(g, p, n, s, key);
         ao[index] = e.ao;
         confidence[index] = e.confidence;
+        fetches.fetch_add(e.fetches, std::memory_order_relaxed);
     });
+    return fetches.load();
 }
 
 }  // namespace
@@ -106,20 +112,17 @@ BakedProbe bakeProbeCpu(const EmbreeScene& scene, const glm::vec3& probe, std::u
     out.ao.assign(g.texelCount(), 1.0f);
     out.confidence.assign(g.texelCount(), 1.0f);
     const std::uint64_t surfaceTexels = nonEmptyTexels(g);
-    const std::uint64_t fetchesPerTexel = std::uint64_t(settings.directions) * std::uint64_t(settings.steps);
     switch (settings.estimator) {
         case Estimator::HorizonSplit:
         case Estimator::Gtao:
-            horizonTexels(g, probeIndex, settings, settings.estimator, out.ao, out.confidence);
-            out.fetches = surfaceTexels * fetchesPerTexel;
+            out.fetches = horizonTexels(g, probeIndex, settings, settings.estimator, out.ao, out.confidence);
             break;
         case Estimator::Traced:
             out.rays = traceTexelsCpu(scene, g, probeIndex, settings, out.ao);
             out.tracedTexels = surfaceTexels;
             break;
         case Estimator::Hybrid: {
-            horizonTexels(g, probeIndex, settings, Estimator::HorizonSplit, out.ao, out.confidence);
-            out.fetches = surfaceTexels * fetchesPerTexel;
+            out.fetches = horizonTexels(g, probeIndex, settings, Estimator::HorizonSplit, out.ao, out.confidence);
             // Empty texels have confidence 1 and so are never selected; traced texels keep their
             // hsplit confidence, which shows where the hybrid traced.
             std::vector<std::uint8_t> trace(g.texelCount(), 0);

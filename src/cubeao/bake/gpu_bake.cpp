@@ -33,7 +33,7 @@ struct GpuBaker::Impl {
     float zNear = 0.0f, surfaceEpsilon = 0.0f;
     GBufferMode mode = GBufferMode::Layered;
 
-    gl::Buffer positions, indices, triangleNormals, aoBuffer, texelList;
+    gl::Buffer positions, indices, triangleNormals, aoBuffer, texelList, fetchCount;
     gl::VertexArray vao;
     gl::Texture gbuffer, depth;
     gl::Framebuffer framebuffer;
@@ -44,6 +44,11 @@ struct GpuBaker::Impl {
     void horizonPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
     void tracedPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
     std::uint32_t hybridPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
+    std::uint64_t fetches() const {
+        std::uint32_t words[2] = {0u, 0u};
+        glGetNamedBufferSubData(fetchCount.id(), 0, sizeof words, words);
+        return std::uint64_t(words[1]) << 32 | words[0];
+    }
 };
 
 GpuBaker::GpuBaker(const Scene& scene, const BakeSettings& settings) : impl_(std::make_unique<Impl>()), settings_(settings) {
@@ -92,6 +97,8 @@ GpuBaker::GpuBaker(const Scene& scene, const BakeSettings& settings) : impl_(std
                                   gl::loadShaderStage(GL_FRAGMENT_SHADER, "bake/gbuffer.frag")},
                                  {{"LAYERED", "1"}});
     m.sixPass = gl::compileRenderProgram("bake/gbuffer.vert", "bake/gbuffer.frag");
+    m.fetchCount = gl::Buffer::create();
+    glNamedBufferStorage(m.fetchCount.id(), 2 * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
     if (needsHorizon(settings.estimator)) {
         const bool gtao = settings.estimator == Estimator::Gtao;
         m.horizon = gl::compileComputeProgram("bake/ao_horizon.comp", {{"ESTIMATOR", gtao ? "1" : "0"}});
@@ -184,6 +191,9 @@ void setAoUniforms(GLuint program, const glm::vec3& probe, std::uint32_t probeKe
 }  // namespace
 
 void GpuBaker::Impl::horizonPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
+    const std::uint32_t zero[2] = {0u, 0u};
+    glNamedBufferSubData(fetchCount.id(), 0, sizeof zero, zero);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, fetchCount.id());
     setAoUniforms(horizon.id(), probe, probeKey, s);
     glUseProgram(horizon.id());
     glBindTextureUnit(0, gbuffer.id());
@@ -264,21 +274,14 @@ BakedProbe GpuBaker::bake(const glm::vec3& probe, std::uint32_t probeIndex) {
         out.confidence[i] = aoConfidence[i].y;
         surfaceTexels += CubeGBuffer::empty(out.gbuffer.texels[i]) ? 0 : 1;
     }
-    const std::uint64_t marchPoints = std::uint64_t(s.steps) * std::uint64_t(s.directions);
-    switch (s.estimator) {
-        case Estimator::HorizonSplit:
-        case Estimator::Gtao: out.fetches = surfaceTexels * marchPoints; break;
-        case Estimator::Traced: out.tracedTexels = surfaceTexels; break;
-        case Estimator::Hybrid:
-            out.fetches = surfaceTexels * marchPoints;
-            out.tracedTexels = traced;
-            break;
-    }
+    if (needsHorizon(s.estimator)) out.fetches = m.fetches();
+    if (s.estimator == Estimator::Traced) out.tracedTexels = surfaceTexels;
+    if (s.estimator == Estimator::Hybrid) out.tracedTexels = traced;
     out.rays = out.tracedTexels * std::uint64_t(s.ao.spp);
     return out;
 }
 
-std::vector<glm::vec2> GpuBaker::horizonOn(const CubeGBuffer& g, std::uint32_t probeIndex) {
+std::vector<glm::vec2> GpuBaker::horizonOn(const CubeGBuffer& g, std::uint32_t probeIndex, std::uint64_t* fetches) {
     Impl& m = *impl_;
     if (!m.horizon) throw Error("GpuBaker::horizonOn needs the hsplit or gtao estimator");
     if (g.res != settings_.res) throw Error("GpuBaker::horizonOn: G-buffer resolution differs from the settings'");
@@ -286,6 +289,7 @@ std::vector<glm::vec2> GpuBaker::horizonOn(const CubeGBuffer& g, std::uint32_t p
     m.horizonPass(g.probe, probeIndex ^ settings_.ao.seed, settings_);
     std::vector<glm::vec2> out(g.texelCount());
     glGetNamedBufferSubData(m.aoBuffer.id(), 0, GLsizeiptr(out.size() * sizeof(glm::vec2)), out.data());
+    if (fetches) *fetches = m.fetches();
     return out;
 }
 

@@ -35,8 +35,8 @@ public:
     BakedProbe bake(const glm::vec3& probe, std::uint32_t probeIndex);
 
     // For tests: the horizon pass alone on a given G-buffer (uploaded), returning (ao, confidence)
-    // per texel; the estimator must be hsplit or gtao.
-    std::vector<glm::vec2> horizonOn(const CubeGBuffer& g, std::uint32_t probeIndex);
+    // per texel and, if asked, the G-buffer lookups made; the estimator must be hsplit or gtao.
+    std::vector<glm::vec2> horizonOn(const CubeGBuffer& g, std::uint32_t probeIndex, std::uint64_t* fetches = nullptr);
 
     const BakeSettings& settings() const { return settings_; }
 
