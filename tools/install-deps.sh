@@ -11,7 +11,7 @@ packages=(
   libembree-dev libtbb-dev
   libopenimageio-dev openimageio-tools   # OIIO's CMake config insists on its tools being installed
   libcli11-dev nlohmann-json3-dev libxxhash-dev libspdlog-dev libfmt-dev
-  libgtest-dev
+  libgtest-dev libsquish-dev                                        # libsquish: BC5 cross-check in tests/test_bc.cpp
 )
 
 missing=()
