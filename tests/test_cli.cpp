@@ -73,6 +73,20 @@ TEST(Cli, ExitCodes) {
     EXPECT_EQ(run("reference builtin:box-room --falloff linear --out " + dir.path().string()).code, 2);
 }
 
+TEST(Cli, PlaceAlongThePathWritesAProbeSetBakeReads) {
+    TempDir dir;
+    const fs::path probes = dir.path() / "probes.json";
+    const CliRun r = run("place builtin:box-room --budget 3 --out " + probes.string() + " --json");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_EQ(lastLine(r.out)["probes"].get<int>(), 3);
+    const CliRun b = run("bake builtin:box-room --probes " + probes.string() + " --out " +
+                         (dir.path() / "bake").string() + " --res 4 --spp 2 --device cpu --json");
+    ASSERT_EQ(b.code, 0) << b.out;
+    EXPECT_EQ(lastLine(b.out)["probes"].get<int>(), 3);
+    EXPECT_EQ(run("place builtin:box-room --method voting --out " + probes.string()).code, 2);
+    EXPECT_EQ(run("place builtin:box-room --budget 0 --out " + probes.string()).code, 2);
+}
+
 TEST(Cli, BakeCpuWritesProbesAndVerifies) {
     TempDir dir;
     const std::string probes = dir.write("probes.json", R"({"version":1,"probes":[{"pos":[3,1.4,2.5]},{"pos":[6,1.5,1.5]}]})");

@@ -29,7 +29,7 @@ namespace fs = std::filesystem;
 struct BakeArgs {
     std::string scene, probes, out, dump, estimator = "traced", device = "gpu", falloff = "none", shard,
                                           gbuffer = "layered";
-    int res = 0, spp = 0, directions = 0, steps = 0;
+    int res = 0, spp = 0, directions = 0, steps = 0, verifySpp = 0;
     float radius = 0.0f, hybridThreshold = 0.0f;
     std::uint32_t seed = 0;
     bool verify = false, json = false;
@@ -112,6 +112,9 @@ void run(const BakeArgs& a) {
         gpu->setGBufferMode(gbufferMode);
     }
     if (settings.device == BakeDevice::Cpu || a.verify) embree = std::make_unique<EmbreeScene>(scene);
+    if (a.verifySpp < 0) throw UsageError("--verify-spp must be positive");
+    BakeSettings verifySettings = settings;  // default: the bake's own rays (traced: the same rays)
+    if (a.verifySpp > 0) verifySettings.ao.spp = a.verifySpp;
 
     spdlog::info("bake: {} ({} triangles), {} probes{}, {} on the {}, {}² texels per face, R = {}", scene.source,
                  scene.triangleCount(), probes.size(),
@@ -120,7 +123,7 @@ void run(const BakeArgs& a) {
 
     nlohmann::json perProbe = nlohmann::json::array();
     std::vector<double> msTotal, msGBuffer, msAo, msReadback;
-    double verifySum = 0.0, rayMs = 0.0;
+    double verifySum = 0.0, verifyNoise = 0.0, rayMs = 0.0;
     std::uint64_t verifyTexels = 0, traced = 0, surface = 0, rays = 0, fetches = 0;
     std::size_t baked = 0;
     Progress progress("bake", (probes.size() - shard.index + shard.count - 1) / shard.count);
@@ -145,9 +148,11 @@ void run(const BakeArgs& a) {
                                 {"traced_texels", probe.tracedTexels},
                                 {"rays", probe.rays}};
         if (a.verify) {
-            const VerifyResult v = verifyProbe(*embree, probe, index, settings);
+            const VerifyResult v = verifyProbe(*embree, probe, index, verifySettings);
             entry["verify_mae"] = v.mae;
+            entry["verify_noise"] = v.noise;
             verifySum += v.mae * double(v.texels);
+            verifyNoise += v.noise * double(v.texels);
             verifyTexels += v.texels;
         }
         perProbe.push_back(entry);
@@ -180,7 +185,11 @@ void run(const BakeArgs& a) {
                              {"per_probe", perProbe},
                              {"out", a.out}};
     if (settings.device == BakeDevice::Gpu) result["renderer"] = context->renderer();
-    if (a.verify) result["verify_mae"] = verifyTexels ? verifySum / double(verifyTexels) : 0.0;
+    if (a.verify) {
+        result["verify_mae"] = verifyTexels ? verifySum / double(verifyTexels) : 0.0;
+        result["verify_noise"] = verifyTexels ? verifyNoise / double(verifyTexels) : 0.0;
+        result["verify_spp"] = verifySettings.ao.spp;
+    }
     if (!a.dump.empty()) result["dump"] = a.dump;
     const fs::path manifest = fs::path(a.out) / "bake.json";
     {
@@ -217,6 +226,7 @@ void addBake(CLI::App& app) {
     cmd->add_option("--gbuffer", a->gbuffer, "GPU G-buffer: layered | six-pass")->capture_default_str();
     cmd->add_option("--shard", a->shard, "I/N: bake only the probes with index = I mod N");
     cmd->add_flag("--verify", a->verify, "Also trace the Embree twin at every texel and report verify_mae");
+    cmd->add_option("--verify-spp", a->verifySpp, "Rays per texel of the --verify reference (default: --spp, the same rays)");
     cmd->add_option("--dump", a->dump, "Directory for per-face EXRs and a cross-layout PNG per probe");
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
     cmd->callback([a] { run(*a); });

@@ -11,6 +11,7 @@ namespace cubeao::cli {
 void addInfo(CLI::App& app);
 void addReference(CLI::App& app);
 void addCompare(CLI::App& app);
+void addPlace(CLI::App& app);
 void addBake(CLI::App& app);
 void addBench(CLI::App& app);
 

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
     app.parse_complete_callback([&] { spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info); });
     cubeao::cli::addInfo(app);
     cubeao::cli::addReference(app);
+    cubeao::cli::addPlace(app);
     cubeao::cli::addBake(app);
     cubeao::cli::addCompare(app);
     cubeao::cli::addBench(app);

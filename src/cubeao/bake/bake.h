@@ -43,10 +43,13 @@ std::uint64_t traceTexelsCpu(const EmbreeScene& scene, const CubeGBuffer& g, std
                              const BakeSettings& settings, std::vector<float>& ao,
                              const std::vector<std::uint8_t>& only = {});
 
-// Embree twin at the baked texel points (same rays as `traced`): mean |ao − reference| over the
-// non-empty texels, and the count.
+// Embree twin at the baked texel points: mean |ao − reference| over the non-empty texels, with the
+// reference computed by ambientOcclusion() with settings.ao and each texel's key, so with the bake's
+// own settings it traces the same rays as `traced`. Pass more spp for a quality figure instead; then
+// `noise` (the reference's mean standard error) says how much of the MAE is the reference's own.
 struct VerifyResult {
     double mae = 0.0;
+    double noise = 0.0;
     std::uint64_t texels = 0;
 };
 VerifyResult verifyProbe(const EmbreeScene& scene, const BakedProbe& probe, std::uint32_t probeIndex,

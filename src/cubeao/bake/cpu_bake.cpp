@@ -143,23 +143,26 @@ VerifyResult verifyProbe(const EmbreeScene& scene, const BakedProbe& probe, std:
     if (probe.ao.size() != g.texelCount())
         throw Error("verifyProbe: " + std::to_string(probe.ao.size()) + " AO values for a cube of " +
                     std::to_string(g.texelCount()) + " texels");
-    std::vector<double> error(g.texelCount(), 0.0);
+    std::vector<double> error(g.texelCount(), 0.0), noise(g.texelCount(), 0.0);
     forEachTexel(g.res, [&](int face, int i, int j, std::size_t index) {
         const glm::vec4& texel = g.texels[index];
         if (CubeGBuffer::empty(texel)) return;
         const std::uint32_t key = texelKey(face, i, j, g.res, probeIndex, settings.ao.seed);
-        const float reference = ambientOcclusion(scene, g.surfacePoint(face, i, j), glm::vec3(texel), settings.ao, key).ao;
-        error[index] = std::abs(double(probe.ao[index]) - double(reference));
+        const AoEstimate reference = ambientOcclusion(scene, g.surfacePoint(face, i, j), glm::vec3(texel), settings.ao, key);
+        error[index] = std::abs(double(probe.ao[index]) - double(reference.ao));
+        noise[index] = reference.stdError;
     });
     // Summed in texel order, not per thread, so the MAE is the same on any number of cores.
     VerifyResult result;
-    double sum = 0.0;
+    double sum = 0.0, noiseSum = 0.0;
     for (std::size_t index = 0; index < g.texelCount(); ++index) {
         if (CubeGBuffer::empty(g.texels[index])) continue;
         sum += error[index];
+        noiseSum += noise[index];
         ++result.texels;
     }
     result.mae = result.texels ? sum / double(result.texels) : 0.0;
+    result.noise = result.texels ? noiseSum / double(result.texels) : 0.0;
     return result;
 }
 
