@@ -1,0 +1,184 @@
+// The `.cubeao` probe cache file (DESIGN.md §5 "Cache file"; byte layout in docs/FORMAT.md): write it
+// atomically, map it read-only and check every offset, size and checksum before a byte is used.
+// Part of cubeao_runtime (what an engine links): no OIIO, no Embree, no bake types here.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace cubeao {
+
+// Newest format this build writes and reads (docs/FORMAT.md "Versioning").
+constexpr std::uint32_t kCacheFormatVersion = 1;
+// Every payload section starts at a multiple of this, so BC blocks and depth texels can be uploaded
+// straight from the mapping.
+constexpr std::uint64_t kCacheSectionAlignment = 16;
+
+// Texel format of a probe's distance cube. Values are what the file stores (0 is left invalid so a
+// zeroed header is caught).
+enum class DepthFormat : std::uint8_t {
+    R16Unorm = 1,  // distance / maxDistance of the probe record, 0..65535
+    R16Float = 2,  // IEEE half, world units
+    R32Float = 3,  // IEEE single, world units
+};
+std::uint32_t depthBytesPerTexel(DepthFormat f);  // 2, 2, 4; 0 for a value outside the enum
+const char* depthFormatName(DepthFormat f);       // "r16unorm", "r16float", "r32float", "?"
+
+// Everything a bake was made with; two caches can be merged or appended to only when these are
+// equal (operator==, bit for bit). Enum fields keep the bake's numbering so the CLI can cast:
+// estimator = Estimator (hsplit 0, gtao 1, traced 2, hybrid 3), falloff = Falloff (none 0, smooth 1).
+struct CacheParams {
+    std::uint64_t sceneHash = 0;   // Scene::hash (geometryHash) of the scene the probes belong to
+    std::uint32_t res = 0;         // AO face resolution, texels per side; a multiple of 4 (BC blocks)
+    std::uint32_t depthRes = 0;    // distance cube resolution, texels per side
+    DepthFormat depthFormat = DepthFormat::R16Unorm;
+    std::uint8_t estimator = 0;
+    std::uint8_t falloff = 0;
+    std::uint32_t spp = 0;
+    float radius = 0.0f;           // AO radius R, world units
+    std::uint32_t seed = 0;
+    std::uint32_t directions = 0;  // horizon directions N_d
+    std::uint32_t steps = 0;       // march steps N_s
+    float hybridThreshold = 0.0f;
+
+    bool operator==(const CacheParams&) const = default;
+};
+
+// Every range problem of `p` at once (empty: valid). Limits: res 4..16384 and a multiple of 4,
+// depthRes 1..16384, a known depth format, estimator ≤ 3, falloff ≤ 1, radius finite and > 0,
+// hybridThreshold finite.
+std::vector<std::string> cacheParamProblems(const CacheParams& p);
+// Fields that differ between `a` and `b`, "res 8 vs 16" style; empty when a == b.
+std::vector<std::string> cacheParamDifferences(const CacheParams& a, const CacheParams& b);
+
+// Section sizes every probe of a cache with these parameters has.
+// AO + confidence: 6 faces × (res/4)² BC5 blocks × 16 bytes = 6·res² bytes (1 byte per texel).
+std::uint64_t aoSectionSize(const CacheParams& p);
+// Distance cube: 6 faces × depthRes² texels × depthBytesPerTexel.
+std::uint64_t depthSectionSize(const CacheParams& p);
+// Exact size of a file holding `probes` probes (header, table, payload with padding, checksum).
+std::uint64_t cacheFileSize(const CacheParams& p, std::uint64_t probes);
+
+// One probe as the bake hands it over and tools get it back.
+struct ProbeRecord {
+    glm::vec3 position{0.0f};
+    float maxDistance = 0.0f;                 // scale of R16Unorm distances (world units)
+    std::vector<std::uint8_t> aoConfidence;   // aoSectionSize(params) bytes of BC5 blocks
+    std::vector<std::uint8_t> depth;          // depthSectionSize(params) bytes
+};
+
+// One probe without copies: spans into a reader's mapping (valid while the reader lives) or into
+// the caller's buffers when writing.
+struct ProbeView {
+    glm::vec3 position{0.0f};
+    float maxDistance = 0.0f;
+    std::span<const std::uint8_t> aoConfidence;
+    std::span<const std::uint8_t> depth;
+};
+ProbeView viewOf(const ProbeRecord& r);
+
+struct WriteOptions {
+    // Called after the temporary file is complete and fsynced, right before the rename: a test
+    // throws here to stand for a crash between write and rename.
+    std::function<void()> beforeRename;
+};
+
+// Writes `path` atomically: a uniquely named temporary file in the same directory, fsync, rename
+// over `path`, fsync of the directory. On any failure the temporary file is removed, `path` is left
+// as it was, and cubeao::Error names the file and what failed.
+void writeCache(const std::filesystem::path& path, const CacheParams& params, std::span<const ProbeView> probes,
+                const WriteOptions& options = {});
+void writeCache(const std::filesystem::path& path, const CacheParams& params, const std::vector<ProbeRecord>& probes,
+                const WriteOptions& options = {});
+
+// A cache mapped read-only. The constructor checks magic, version, header, the probe table and every
+// probe's offsets and sizes (nothing past the end, aligned, in table order, no overlap, sizes as
+// `params()` implies); it reads no payload byte. Probe checksums are checked on first access to a
+// probe; verifyAll() checks all of them and the trailing file checksum. Every error is cubeao::Error
+// "FILE: SECTION: problem" where SECTION is "header", "probe table", "probe N" or "file checksum".
+// Thread-safe for concurrent const use. Caveat: a file truncated by another process while mapped
+// raises SIGBUS on access (as for any mmap reader); caches are replaced by rename, never rewritten
+// in place, so readers of the old file are unaffected by a new bake.
+class CacheReader {
+public:
+    explicit CacheReader(const std::filesystem::path& path);
+    ~CacheReader();
+    CacheReader(CacheReader&& other) noexcept;
+    CacheReader& operator=(CacheReader&& other) noexcept;
+    CacheReader(const CacheReader&) = delete;
+    CacheReader& operator=(const CacheReader&) = delete;
+
+    const std::filesystem::path& path() const { return path_; }
+    const CacheParams& params() const { return params_; }
+    std::uint32_t formatVersion() const { return version_; }
+    std::size_t probeCount() const { return entries_.size(); }
+    std::uint64_t fileSize() const { return size_; }
+
+    // Throws when the cache was baked for another scene, naming both hashes.
+    void expectScene(std::uint64_t sceneHash) const;
+    // Throws when params() != p, listing every difference.
+    void expectParams(const CacheParams& p) const;
+
+    // From the table (covered by the table checksum, checked on open): no payload page is touched,
+    // so an engine can build its spatial index of probes without reading the payload.
+    glm::vec3 position(std::size_t i) const;
+    float maxDistance(std::size_t i) const;
+
+    // Spans into the mapping; checks probe i's checksum the first time it is asked for.
+    ProbeView probe(std::size_t i) const;
+    ProbeRecord copyProbe(std::size_t i) const;  // for tools
+
+    // Every probe checksum and the trailing file checksum; one Error listing every damaged probe.
+    void verifyAll() const;
+
+    // File size / (probes × 6 × res²): what a texel of AO costs on disk, everything included
+    // (header, table, distance cube, padding). 0 for an empty cache.
+    double bytesPerTexel() const;
+
+private:
+    struct Entry {
+        glm::vec3 position;
+        float maxDistance;
+        std::uint64_t aoOffset, aoSize, depthOffset, depthSize, checksum;
+    };
+    void validate();
+    void validateTable(std::uint64_t tableChecksum);
+    const Entry& entry(std::size_t i) const;  // Error for an index past the table
+    std::uint64_t probeChecksum(const Entry& e) const;
+    void checkProbe(std::size_t i) const;
+    std::string where(const std::string& section) const;
+
+    std::filesystem::path path_;
+    const std::uint8_t* data_ = nullptr;  // the mapping; null for an empty file (never mapped)
+    std::uint64_t size_ = 0;
+    std::uint32_t version_ = 0;
+    CacheParams params_;
+    std::vector<Entry> entries_;
+    std::unique_ptr<std::atomic<std::uint8_t>[]> verified_;  // per probe: checksum already matched
+};
+
+// Resume a bake: `path`'s probes followed by `newProbes`, rewritten atomically (the whole file is
+// written again: docs/FORMAT.md "Appending"). The existing cache must have exactly `params` (scene
+// hash included) and its probes must pass their checksums; a new probe at the position of an existing
+// one is an error. A missing `path` is created as by writeCache.
+void appendToCache(const std::filesystem::path& path, const CacheParams& params, std::span<const ProbeView> newProbes,
+                   const WriteOptions& options = {});
+void appendToCache(const std::filesystem::path& path, const CacheParams& params,
+                   const std::vector<ProbeRecord>& newProbes, const WriteOptions& options = {});
+
+// `cubeao merge OUT IN...`: the probes of every input in argument order, written atomically to `out`
+// (which may be one of the inputs). Inputs must share scene hash and parameters, and no position may
+// occur twice (the same probe baked in two shards); errors name the input file.
+void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesystem::path>& inputs,
+                 const WriteOptions& options = {});
+
+}  // namespace cubeao

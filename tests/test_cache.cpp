@@ -1,0 +1,446 @@
+// The .cubeao cache file (src/cubeao/cache/cache_file.h, docs/FORMAT.md): round trips, damage of every
+// kind (truncation at every byte, flipped bytes, forged offsets), atomic writes, append and merge.
+// Run under the CUBEAO_SANITIZE build too: damaged files must fail cleanly, never read out of bounds.
+#include <gtest/gtest.h>
+#include <xxhash.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cubeao/cache/cache_file.h"
+#include "cubeao/core/error.h"
+#include "test_util.h"
+
+namespace cubeao {
+namespace {
+
+using test::contains;
+using test::errorMessage;
+using test::TempDir;
+using Bytes = std::vector<std::uint8_t>;
+
+CacheParams smallParams(std::uint32_t res = 8, std::uint32_t depthRes = 4, DepthFormat f = DepthFormat::R16Unorm) {
+    CacheParams p;
+    p.sceneHash = 0x0123456789abcdefULL;
+    p.res = res;
+    p.depthRes = depthRes;
+    p.depthFormat = f;
+    p.estimator = 3;
+    p.falloff = 1;
+    p.spp = 64;
+    p.radius = 0.25f;
+    p.seed = 7;
+    p.directions = 16;
+    p.steps = 16;
+    p.hybridThreshold = 0.95f;
+    return p;
+}
+
+// Random payload bytes; probe i sits at (i + 1 + offset, 2, 3) so positions are distinct.
+std::vector<ProbeRecord> randomProbes(const CacheParams& p, int n, unsigned seed, float offset = 0.0f) {
+    std::mt19937 rng(seed);
+    std::vector<ProbeRecord> probes(n);
+    for (int i = 0; i < n; ++i) {
+        probes[i].position = {float(i) + 1.0f + offset, 2.0f, 3.0f};
+        probes[i].maxDistance = 10.0f + float(i);
+        probes[i].aoConfidence.resize(aoSectionSize(p));
+        probes[i].depth.resize(depthSectionSize(p));
+        for (auto& b : probes[i].aoConfidence) b = std::uint8_t(rng());
+        for (auto& b : probes[i].depth) b = std::uint8_t(rng());
+    }
+    return probes;
+}
+
+Bytes readBytes(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return Bytes(std::istreambuf_iterator<char>(in), {});
+}
+
+void writeBytes(const std::filesystem::path& p, const Bytes& b, std::size_t n) {
+    std::ofstream out(p, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(b.data()), std::streamsize(n));
+}
+void writeBytes(const std::filesystem::path& p, const Bytes& b) { writeBytes(p, b, b.size()); }
+
+void expectSameProbe(const ProbeView& v, const ProbeRecord& r) {
+    EXPECT_EQ(v.position, r.position);
+    EXPECT_EQ(v.maxDistance, r.maxDistance);
+    EXPECT_TRUE(std::equal(v.aoConfidence.begin(), v.aoConfidence.end(), r.aoConfidence.begin(), r.aoConfidence.end()));
+    EXPECT_TRUE(std::equal(v.depth.begin(), v.depth.end(), r.depth.begin(), r.depth.end()));
+}
+
+// The section a byte offset belongs to, from docs/FORMAT.md (written out here, not taken from the
+// implementation): header 128 bytes, 64 per table entry, probe blocks padded to 16, 8-byte checksum.
+std::string sectionAt(std::uint64_t offset, const CacheParams& p, std::uint64_t probes) {
+    const std::uint64_t payload = 128 + 64 * probes;
+    const std::uint64_t stride = (aoSectionSize(p) + depthSectionSize(p) + 15) / 16 * 16;
+    if (offset < 128) return "header";
+    if (offset < payload) return "probe table";
+    if (offset < payload + stride * probes) return "probe " + std::to_string((offset - payload) / stride);
+    return "file checksum";
+}
+
+// First error from opening the file, reading every probe and verifying it all; "" if none.
+std::string firstFailure(const std::filesystem::path& path) {
+    try {
+        CacheReader r(path);
+        for (std::size_t i = 0; i < r.probeCount(); ++i) r.probe(i);
+        r.verifyAll();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+// Recomputes table, header and file checksums after a test forged a field, so the reader's value
+// checks (not its checksums) must catch it.
+void reseal(Bytes& b) {
+    auto get32 = [&](std::size_t at) {
+        std::uint32_t v;
+        std::memcpy(&v, &b[at], 4);
+        return v;
+    };
+    auto put64 = [&](std::size_t at, std::uint64_t v) { std::memcpy(&b[at], &v, 8); };  // host is little-endian
+    const std::uint32_t count = get32(60);
+    put64(96, XXH3_64bits(b.data() + 128, 64 * std::size_t(count)));
+    put64(120, XXH3_64bits(b.data(), 120));
+    put64(b.size() - 8, XXH3_64bits(b.data(), b.size() - 8));
+}
+
+TEST(CacheFile, SizesFollowTheParameters) {
+    const CacheParams p = smallParams(512, 128, DepthFormat::R16Unorm);
+    EXPECT_EQ(aoSectionSize(p), 6u * 128 * 128 * 16);  // 1 byte per texel
+    EXPECT_EQ(aoSectionSize(p), 6u * 512 * 512);
+    EXPECT_EQ(depthSectionSize(p), 6u * 128 * 128 * 2);
+    EXPECT_EQ(depthSectionSize(smallParams(8, 3, DepthFormat::R32Float)), 6u * 9 * 4);
+    EXPECT_EQ(cacheFileSize(p, 0), 136u);
+    EXPECT_EQ(cacheFileSize(p, 200), 136u + 200 * (64 + 1572864 + 196608));
+    EXPECT_EQ(cacheFileSize(smallParams(4, 3, DepthFormat::R16Float), 2), 136u + 2 * (64 + 208));  // 204 → 208
+    EXPECT_TRUE(cacheParamProblems(p).empty());
+}
+
+TEST(CacheFile, RoundTrip) {
+    TempDir dir("cache");
+    const CacheParams p = smallParams();
+    const auto probes = randomProbes(p, 3, 1);
+    writeCache(dir / "a.cubeao", p, probes);
+
+    const CacheReader r(dir / "a.cubeao");
+    EXPECT_EQ(r.params(), p);
+    EXPECT_EQ(r.formatVersion(), kCacheFormatVersion);
+    ASSERT_EQ(r.probeCount(), 3u);
+    EXPECT_EQ(r.fileSize(), cacheFileSize(p, 3));
+    EXPECT_EQ(std::filesystem::file_size(dir / "a.cubeao"), cacheFileSize(p, 3));
+    for (std::size_t i = 0; i < 3; ++i) {
+        EXPECT_EQ(r.position(i), probes[i].position);
+        const ProbeView v = r.probe(i);
+        expectSameProbe(v, probes[i]);
+        // Sections are uploadable straight from the mapping.
+        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(v.aoConfidence.data()) % kCacheSectionAlignment, 0u);
+        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(v.depth.data()) % kCacheSectionAlignment, 0u);
+        expectSameProbe(viewOf(r.copyProbe(i)), probes[i]);
+    }
+    EXPECT_NO_THROW(r.verifyAll());
+    EXPECT_NO_THROW(r.expectScene(p.sceneHash));
+    EXPECT_DOUBLE_EQ(r.bytesPerTexel(), double(cacheFileSize(p, 3)) / (3.0 * 6 * 8 * 8));
+}
+
+TEST(CacheFile, RoundTripEveryDepthFormatAndNoProbes) {
+    TempDir dir("cache");
+    for (DepthFormat f : {DepthFormat::R16Unorm, DepthFormat::R16Float, DepthFormat::R32Float})
+        for (std::uint32_t depthRes : {1u, 3u, 4u}) {
+            SCOPED_TRACE(std::string(depthFormatName(f)) + " depthRes " + std::to_string(depthRes));
+            const CacheParams p = smallParams(4, depthRes, f);
+            const auto probes = randomProbes(p, 2, depthRes);
+            writeCache(dir / "f.cubeao", p, probes);
+            const CacheReader r(dir / "f.cubeao");
+            EXPECT_EQ(r.params(), p);
+            for (std::size_t i = 0; i < 2; ++i) expectSameProbe(r.probe(i), probes[i]);
+            EXPECT_NO_THROW(r.verifyAll());
+        }
+    writeCache(dir / "empty.cubeao", smallParams(), std::vector<ProbeRecord>{});
+    const CacheReader r(dir / "empty.cubeao");
+    EXPECT_EQ(r.probeCount(), 0u);
+    EXPECT_EQ(r.fileSize(), 136u);
+    EXPECT_EQ(r.bytesPerTexel(), 0.0);
+    EXPECT_NO_THROW(r.verifyAll());
+}
+
+// Every prefix of a valid cache fails on open, naming the section the cut falls in.
+TEST(CacheFile, TruncatedAtEveryByteNamesTheSection) {
+    TempDir dir("cache");
+    for (const CacheParams& p : {smallParams(8, 4, DepthFormat::R16Unorm), smallParams(4, 3, DepthFormat::R16Float)}) {
+        writeCache(dir / "whole.cubeao", p, randomProbes(p, 2, 2));
+        const Bytes whole = readBytes(dir / "whole.cubeao");
+        ASSERT_LT(whole.size(), 2048u);
+        const auto cut = dir / "cut.cubeao";
+        for (std::size_t n = 0; n < whole.size(); ++n) {
+            SCOPED_TRACE("cut at " + std::to_string(n) + " of " + std::to_string(whole.size()));
+            writeBytes(cut, whole, n);
+            const std::string msg = errorMessage([&] { CacheReader r(cut); });
+            EXPECT_TRUE(contains(msg, cut.string())) << msg;
+            if (n == 0) {
+                EXPECT_TRUE(contains(msg, "not a cubeao cache (the file is empty)")) << msg;
+                continue;
+            }
+            EXPECT_TRUE(contains(msg, ": " + sectionAt(n, p, 2) + ": truncated")) << msg;
+        }
+    }
+}
+
+// A flipped byte anywhere is caught: by open (magic, header, table), by the first access of the probe
+// whose sections hold it, or, for padding and the trailing checksum, by verifyAll.
+TEST(CacheFile, FlippedByteAnywhereIsReported) {
+    TempDir dir("cache");
+    for (const CacheParams& p : {smallParams(8, 4, DepthFormat::R16Unorm), smallParams(4, 3, DepthFormat::R16Float)}) {
+        const auto probes = randomProbes(p, 2, 3);
+        writeCache(dir / "whole.cubeao", p, probes);
+        const Bytes whole = readBytes(dir / "whole.cubeao");
+        const auto bad = dir / "flip.cubeao";
+        const std::uint64_t stride = (aoSectionSize(p) + depthSectionSize(p) + 15) / 16 * 16;
+        for (std::size_t at = 0; at < whole.size(); ++at)
+            for (std::uint8_t mask : {0x01, 0x80}) {  // lowest and highest bit
+                SCOPED_TRACE("byte " + std::to_string(at) + " ^ " + std::to_string(mask));
+                Bytes b = whole;
+                b[at] ^= mask;
+                writeBytes(bad, b);
+                const std::string section = sectionAt(at, p, 2);
+                if (at < 8) {
+                    EXPECT_TRUE(contains(errorMessage([&] { CacheReader r(bad); }), "not a cubeao cache (magic"));
+                } else if (section == "header" || section == "probe table") {
+                    const std::string msg = errorMessage([&] { CacheReader r(bad); });
+                    EXPECT_TRUE(contains(msg, bad.string() + ": " + section + ": ")) << msg;
+                } else {
+                    const CacheReader r(bad);  // the table is intact: open reads no payload byte
+                    const std::uint64_t inPayload = at - (128 + 64 * 2);
+                    const bool inProbe = section != "file checksum" &&
+                                         inPayload % stride < aoSectionSize(p) + depthSectionSize(p);
+                    for (std::size_t i = 0; i < 2; ++i) {
+                        if (inProbe && section == "probe " + std::to_string(i)) {
+                            const std::string msg = errorMessage([&] { r.probe(i); });
+                            EXPECT_TRUE(contains(msg, bad.string() + ": probe " + std::to_string(i) +
+                                                          ": checksum mismatch"))
+                                << msg;
+                        } else {
+                            expectSameProbe(r.probe(i), probes[i]);
+                        }
+                    }
+                    const std::string msg = errorMessage([&] { r.verifyAll(); });
+                    EXPECT_TRUE(contains(msg, inProbe ? section + ": checksum mismatch" : "file checksum: mismatch"))
+                        << msg;
+                }
+                EXPECT_NE(firstFailure(bad), "");
+            }
+    }
+}
+
+// Checksums intact but values forged: the value checks alone must refuse them.
+TEST(CacheFile, ForgedOffsetsAndSizesAreRefused) {
+    TempDir dir("cache");
+    const CacheParams p = smallParams();
+    writeCache(dir / "ok.cubeao", p, randomProbes(p, 3, 4));
+    const Bytes ok = readBytes(dir / "ok.cubeao");
+    const auto path = dir / "forged.cubeao";
+    // Writes `value`'s low `bytes` bytes at `at`, reseals, and expects `expected` in the open error.
+    auto expectRefused = [&](std::size_t at, std::uint64_t value, int bytes, const std::string& expected) {
+        Bytes b = ok;
+        std::memcpy(&b[at], &value, bytes);
+        reseal(b);
+        writeBytes(path, b);
+        const std::string msg = errorMessage([&] { CacheReader r(path); });
+        EXPECT_TRUE(contains(msg, path.string() + ": " + expected)) << "byte " << at << ": " << msg;
+    };
+    const std::size_t e1 = 128 + 64;  // probe 1's table entry
+    const std::uint64_t ao1 = 128 + 3 * 64 + aoSectionSize(p) + depthSectionSize(p);
+    const std::string at1 = "probe 1: AO section at offset ";
+    expectRefused(e1 + 16, std::uint64_t(1) << 63, 8,
+                  at1 + "9223372036854775808 + 384 bytes runs past the end of the payload");
+    expectRefused(e1 + 16, ~std::uint64_t(0) - 15, 8, at1 + "18446744073709551600 + 384 bytes runs past");
+    expectRefused(e1 + 16, ao1 + 8, 8, at1 + std::to_string(ao1 + 8) + " is not 16-byte aligned");
+    expectRefused(e1 + 16, ao1 - 16, 8, at1 + std::to_string(ao1 - 16) + " overlaps");
+    expectRefused(e1 + 32, ao1 + 128, 8, "probe 1: depth section at offset " + std::to_string(ao1 + 128) + " overlaps");
+    expectRefused(e1 + 24, 400, 8, "probe 1: AO section is 400 bytes, res 8 needs 384");
+    expectRefused(e1 + 40, 0, 8, "probe 1: depth section is 0 bytes, depthRes 4 r16unorm needs 192");
+    expectRefused(e1 + 0, 0x7fc00000, 4, "probe 1: position (nan, 2, 3) is not finite");
+    expectRefused(e1 + 12, 0xbf800000, 4, "probe 1: maxDistance -1 is not finite and >= 0");
+    expectRefused(e1 + 56, 1, 1, "probe 1: reserved bytes");
+    expectRefused(60, 4, 4, "header: payload offset 320, the table of 4 probes ends at 384");
+    expectRefused(80, ~std::uint64_t(0) - 100, 8, "header: file size");
+    expectRefused(64, 0, 8, "header: probe table offset 0");
+    expectRefused(24, 6, 4, "header: bad bake parameters: res 6 is not a multiple of 4");
+    // Every problem at once (STYLE.md): bad res and an unknown depth format in one message.
+    Bytes b = ok;
+    b[24] = 6;
+    b[32] = 9;
+    reseal(b);
+    writeBytes(path, b);
+    const std::string msg = errorMessage([&] { CacheReader r(path); });
+    EXPECT_TRUE(contains(msg, "res 6") && contains(msg, "depth format 9")) << msg;
+}
+
+TEST(CacheFile, InterruptedWriteLeavesTheOldFile) {
+    TempDir dir("cache");
+    const CacheParams p = smallParams();
+    const auto path = dir / "a.cubeao";
+    writeCache(path, p, randomProbes(p, 2, 5));
+    const Bytes before = readBytes(path);
+
+    WriteOptions crash;
+    crash.beforeRename = [] { throw Error("injected crash before rename"); };
+    EXPECT_TRUE(contains(errorMessage([&] { writeCache(path, p, randomProbes(p, 3, 6), crash); }), "injected crash"));
+    EXPECT_EQ(readBytes(path), before);
+    EXPECT_TRUE(contains(errorMessage([&] { appendToCache(path, p, randomProbes(p, 1, 7, 10.0f), crash); }),
+                         "injected crash"));
+    EXPECT_EQ(readBytes(path), before);
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(dir.path())) names.push_back(e.path().filename());
+    EXPECT_EQ(names, std::vector<std::string>{"a.cubeao"});  // no temporary file left behind
+}
+
+TEST(CacheFile, WriteFailuresNameTheFile) {
+    TempDir dir("cache");
+    const CacheParams p = smallParams();
+    const auto missing = dir / "no-such-dir" / "a.cubeao";
+    std::string msg = errorMessage([&] { writeCache(missing, p, randomProbes(p, 1, 8)); });
+    EXPECT_TRUE(contains(msg, missing.string()) && contains(msg, "temporary file")) << msg;
+
+    auto probes = randomProbes(p, 2, 9);
+    probes[1].depth.pop_back();
+    CacheParams bad = p;
+    bad.res = 6;
+    bad.radius = 0.0f;
+    msg = errorMessage([&] { writeCache(dir / "b.cubeao", bad, probes); });
+    EXPECT_TRUE(contains(msg, "res 6") && contains(msg, "radius 0")) << msg;
+    msg = errorMessage([&] { writeCache(dir / "b.cubeao", p, probes); });
+    EXPECT_TRUE(contains(msg, "probe 1: depth section has 191 bytes, depthRes 4 r16unorm needs 192")) << msg;
+    EXPECT_FALSE(std::filesystem::exists(dir / "b.cubeao"));
+}
+
+TEST(CacheFile, ReaderKeepsTheFileItMappedAcrossARewrite) {
+    TempDir dir("cache");
+    const CacheParams p = smallParams();
+    const auto first = randomProbes(p, 2, 10);
+    writeCache(dir / "a.cubeao", p, first);
+    const CacheReader r(dir / "a.cubeao");
+    writeCache(dir / "a.cubeao", p, randomProbes(p, 1, 11));
+    ASSERT_EQ(r.probeCount(), 2u);
+    for (std::size_t i = 0; i < 2; ++i) expectSameProbe(r.probe(i), first[i]);
+}
+
+TEST(CacheFile, WrongSceneNewerVersionAndForeignFilesHaveTheirOwnMessages) {
+    TempDir dir("cache");
+    const CacheParams p = smallParams();
+    const auto path = dir / "a.cubeao";
+    writeCache(path, p, randomProbes(p, 1, 12));
+
+    const std::string scene = errorMessage([&] { CacheReader(path).expectScene(0xfeedULL); });
+    EXPECT_TRUE(contains(scene, "baked for scene 0x0123456789abcdef, not for this scene 0x000000000000feed")) << scene;
+
+    Bytes b = readBytes(path);
+    b[8] = 2;  // format version 2; the version is checked before any checksum
+    writeBytes(dir / "newer.cubeao", b);
+    const std::string newer = errorMessage([&] { CacheReader r(dir / "newer.cubeao"); });
+    EXPECT_TRUE(contains(newer, "written by a newer cubeao (format 2, this build reads up to 1)")) << newer;
+
+    std::mt19937 rng(13);
+    Bytes noise(1000);
+    for (auto& x : noise) x = std::uint8_t(rng());
+    noise[0] = 0x42;
+    writeBytes(dir / "noise.bin", noise);
+    const std::string random = errorMessage([&] { CacheReader r(dir / "noise.bin"); });
+    EXPECT_TRUE(contains(random, "not a cubeao cache (magic: the file starts with 42 ")) << random;
+
+    const Bytes png{0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R'};
+    writeBytes(dir / "image.png", png);
+    const std::string image = errorMessage([&] { CacheReader r(dir / "image.png"); });
+    EXPECT_TRUE(contains(image, "not a cubeao cache (magic: the file starts with 89 50 4E 47 0D 0A 1A 0A")) << image;
+
+    writeBytes(dir / "empty.cubeao", {});
+    EXPECT_TRUE(contains(errorMessage([&] { CacheReader r(dir / "empty.cubeao"); }),
+                         "empty.cubeao: not a cubeao cache (the file is empty)"));
+    EXPECT_TRUE(contains(errorMessage([&] { CacheReader r(dir.path()); }), "not a cubeao cache (a directory)"));
+    EXPECT_TRUE(contains(errorMessage([&] { CacheReader r(dir / "missing.cubeao"); }),
+                         "missing.cubeao: cannot open cache: No such file"));
+}
+
+TEST(CacheFile, AppendAddsProbesAndRefusesOtherParameters) {
+    TempDir dir("cache");
+    const CacheParams p = smallParams();
+    const auto path = dir / "a.cubeao";
+    const auto first = randomProbes(p, 2, 14);
+    const auto more = randomProbes(p, 2, 15, 10.0f);
+    appendToCache(path, p, first);  // a missing file is created
+    appendToCache(path, p, more);
+    {
+        const CacheReader r(path);
+        ASSERT_EQ(r.probeCount(), 4u);
+        for (std::size_t i = 0; i < 2; ++i) expectSameProbe(r.probe(i), first[i]);
+        for (std::size_t i = 0; i < 2; ++i) expectSameProbe(r.probe(2 + i), more[i]);
+        EXPECT_NO_THROW(r.verifyAll());
+    }
+    const Bytes before = readBytes(path);
+    CacheParams other = p;
+    other.seed = 8;
+    other.sceneHash = 0x42;
+    std::string msg = errorMessage([&] { appendToCache(path, other, randomProbes(other, 1, 16, 20.0f)); });
+    EXPECT_TRUE(contains(msg, "cannot append") && contains(msg, "seed 7 vs 8") &&
+                contains(msg, "scene hash 0x0123456789abcdef vs 0x0000000000000042"))
+        << msg;
+    msg = errorMessage([&] { appendToCache(path, p, randomProbes(p, 1, 17)); });  // position of probe 0
+    EXPECT_TRUE(contains(msg, "new probe 0 at (1, 2, 3) is already probe 0 of the cache")) << msg;
+    EXPECT_EQ(readBytes(path), before);
+
+    Bytes damaged = before;
+    damaged[128 + 4 * 64 + 5] ^= 1;  // probe 0's AO section
+    writeBytes(path, damaged);
+    msg = errorMessage([&] { appendToCache(path, p, randomProbes(p, 1, 18, 30.0f)); });
+    EXPECT_TRUE(contains(msg, "probe 0: checksum mismatch")) << msg;  // damage is never re-sealed
+    EXPECT_EQ(readBytes(path), damaged);
+}
+
+TEST(CacheFile, MergeShardsAndRefuseMismatches) {
+    TempDir dir("cache");
+    const CacheParams p = smallParams();
+    const auto a = randomProbes(p, 2, 19), b = randomProbes(p, 1, 20, 10.0f);
+    writeCache(dir / "a.cubeao", p, a);
+    writeCache(dir / "b.cubeao", p, b);
+    mergeCaches(dir / "out.cubeao", {dir / "a.cubeao", dir / "b.cubeao"});
+    {
+        const CacheReader r(dir / "out.cubeao");
+        EXPECT_EQ(r.params(), p);
+        ASSERT_EQ(r.probeCount(), 3u);
+        expectSameProbe(r.probe(0), a[0]);
+        expectSameProbe(r.probe(1), a[1]);
+        expectSameProbe(r.probe(2), b[0]);
+        EXPECT_NO_THROW(r.verifyAll());
+    }
+    // Into one of its own inputs: the inputs stay mapped until the rename.
+    mergeCaches(dir / "b.cubeao", {dir / "b.cubeao", dir / "a.cubeao"});
+    EXPECT_EQ(CacheReader(dir / "b.cubeao").probeCount(), 3u);
+
+    CacheParams other = p;
+    other.radius = 0.5f;
+    writeCache(dir / "c.cubeao", other, randomProbes(other, 1, 21, 20.0f));
+    std::string msg = errorMessage([&] { mergeCaches(dir / "out2.cubeao", {dir / "a.cubeao", dir / "c.cubeao"}); });
+    EXPECT_TRUE(contains(msg, (dir / "c.cubeao").string() + ": cannot merge with") &&
+                contains(msg, "radius 0.25 vs 0.5"))
+        << msg;
+    CacheParams scene = p;
+    scene.sceneHash = 1;
+    writeCache(dir / "d.cubeao", scene, randomProbes(scene, 1, 22, 30.0f));
+    msg = errorMessage([&] { mergeCaches(dir / "out2.cubeao", {dir / "a.cubeao", dir / "d.cubeao"}); });
+    EXPECT_TRUE(contains(msg, (dir / "d.cubeao").string()) && contains(msg, "scene hash")) << msg;
+    msg = errorMessage([&] { mergeCaches(dir / "out2.cubeao", {dir / "a.cubeao", dir / "a.cubeao"}); });
+    EXPECT_TRUE(contains(msg, "probe 0 at (1, 2, 3) is also probe 0 of")) << msg;
+    EXPECT_TRUE(contains(errorMessage([&] { mergeCaches(dir / "out2.cubeao", {}); }), "at least one input"));
+    EXPECT_FALSE(std::filesystem::exists(dir / "out2.cubeao"));
+}
+
+}  // namespace
+}  // namespace cubeao
