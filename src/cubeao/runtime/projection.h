@@ -1,0 +1,60 @@
+// Projecting baked probes onto a surface point (DESIGN.md §4 "Projection", thesis 003 ch. 5): the
+// per-point math of the run-time pass, in plain C++. It is the CPU twin of the projection shader and
+// what tests and tools use to read a cache at arbitrary points.
+//
+// Per candidate probe: a depth test (does the probe see the point?), then a quality that is one
+// physical number instead of the thesis' three heuristics: the world-space area one probe texel
+// covers on the surface at the point. It grows with the distance squared (Q_a), shrinks off a cube
+// face's centre where texels subtend less solid angle (Q_b) and grows as the surface turns away from
+// the probe (Q_c). quality = confidence / area. The best two probes are blended with weights
+// q1 − q3 and q2 − q3 (q3: the third best, 0 if none), so a probe's weight reaches zero exactly when
+// it drops out of the top two: the result is continuous when the ranking changes (no popping,
+// unlike the thesis' hard switch, fig. 5.12).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace cubeao {
+
+struct ProjectSettings {
+    float depthTolerance = 0.0f;  // relative slack of the depth test; 0 → 2 depth-cube texels' worth
+    float minFacing = 0.0f;       // smallest |cos| between normal and probe direction used; 0 → 0.05
+};
+
+// One probe as the projection reads it: decoded AO + confidence per texel (cube::texelIndex order,
+// res × res faces) and a distance cube (depthRes × depthRes faces, distance from the probe, 0 = empty).
+struct ProbeView {
+    glm::vec3 position{0.0f};
+    int res = 0;
+    std::span<const float> ao, confidence;
+    int depthRes = 0;
+    std::span<const float> distance;
+};
+
+// World-space area of the probe texel that sees point x on a surface with unit normal n, or +inf when
+// the surface faces away from the probe. Solid angle of a texel at face coordinates (u, v):
+// (2/res)² / (1 + u² + v²)^{3/2}; area = solid angle · d² / |cos θ|.
+double texelFootprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n, int res, float minFacing);
+
+// Whether the probe sees x: |x − probe| within the distance cube's value in that direction, with
+// slack `relativeTolerance` (fraction of the distance).
+bool probeSees(const ProbeView& probe, const glm::vec3& x, float relativeTolerance);
+
+struct Projected {
+    float ao = 1.0f;
+    bool covered = false;  // some candidate saw the point
+    int used = 0;          // probes blended: 0, 1 or 2 (3 when three tie for first)
+};
+
+// AO at x (normal n) from the candidate probes: depth test, quality, soft best-two blend.
+Projected projectAo(std::span<const ProbeView> candidates, const glm::vec3& x, const glm::vec3& n,
+                    const ProjectSettings& settings);
+
+// Resolves zero fields of settings for a depth cube of depthRes texels per side.
+ProjectSettings resolveProjectSettings(ProjectSettings s, int depthRes);
+
+}  // namespace cubeao
