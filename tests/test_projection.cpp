@@ -18,7 +18,7 @@ using namespace cubeao;
 // A probe whose every texel has the same AO, confidence and distance.
 struct SyntheticProbe {
     std::vector<float> ao, confidence, distance;
-    ProbeView view;
+    DecodedProbe view;
 
     SyntheticProbe(glm::vec3 position, int res, float aoValue, float conf, int depthRes, float dist)
         : ao(std::size_t(6 * res * res), aoValue), confidence(ao.size(), conf),
@@ -62,23 +62,23 @@ TEST(ProjectionBlend, BestTwoBlendByQualityAndUncoveredIsReported) {
     const glm::vec3 x(0.0f, 0.0f, 0.0f), n(0.0f, 1.0f, 0.0f);
     // Two probes straight above at heights 1 and 2: areas in ratio 1 : 4, qualities 4 : 1, no third.
     const SyntheticProbe nearProbe({0, 1, 0}, 32, 0.2f, 1.0f, 16, 10.0f), farProbe({0, 2, 0}, 32, 0.8f, 1.0f, 16, 10.0f);
-    const ProbeView both[] = {nearProbe.view, farProbe.view};
+    const DecodedProbe both[] = {nearProbe.view, farProbe.view};
     const Projected p = projectAo(both, x, n, s);
     EXPECT_TRUE(p.covered);
     EXPECT_EQ(p.used, 2);
     EXPECT_NEAR(p.ao, (4.0f * 0.2f + 1.0f * 0.8f) / 5.0f, 1e-5f);
     // Confidence scales quality: a near probe that doubts its texels yields to the far one.
     const SyntheticProbe doubtful({0, 1, 0}, 32, 0.2f, 0.1f, 16, 10.0f);
-    const ProbeView mixed[] = {doubtful.view, farProbe.view};
+    const DecodedProbe mixed[] = {doubtful.view, farProbe.view};
     EXPECT_NEAR(projectAo(mixed, x, n, s).ao, (0.4f * 0.2f + 1.0f * 0.8f) / 1.4f, 1e-5f);
     // The near probe's depth says something stands between it and x (distance 0.5 < 1): not used.
     const SyntheticProbe blocked({0, 1, 0}, 32, 0.2f, 1.0f, 16, 0.5f);
-    const ProbeView hidden[] = {blocked.view, farProbe.view};
+    const DecodedProbe hidden[] = {blocked.view, farProbe.view};
     const Projected h = projectAo(hidden, x, n, s);
     EXPECT_EQ(h.used, 1);
     EXPECT_NEAR(h.ao, 0.8f, 1e-6f);
     // Nobody sees x: uncovered, AO left open for the caller's fallback.
-    const ProbeView none[] = {blocked.view};
+    const DecodedProbe none[] = {blocked.view};
     const Projected u = projectAo(none, x, n, s);
     EXPECT_FALSE(u.covered);
     EXPECT_EQ(u.ao, 1.0f);
@@ -91,7 +91,7 @@ TEST(ProjectionBlend, ContinuousWhenProbesSwapRank) {
     const ProjectSettings s = resolveProjectSettings({}, 16);
     const SyntheticProbe a({-2, 1.5f, 0}, 64, 0.2f, 1.0f, 16, 100.0f), b({0, 1.5f, 0}, 64, 0.9f, 1.0f, 16, 100.0f),
         c({2, 1.5f, 0}, 64, 0.5f, 1.0f, 16, 100.0f);
-    const ProbeView probes[] = {a.view, b.view, c.view};
+    const DecodedProbe probes[] = {a.view, b.view, c.view};
     float previous = projectAo(probes, {-3.0f, 0.0f, 0.3f}, {0, 1, 0}, s).ao, largestStep = 0.0f;
     const int steps = 2000;
     for (int i = 1; i <= steps; ++i) {

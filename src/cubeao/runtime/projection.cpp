@@ -31,21 +31,21 @@ double texelFootprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec
     return solidAngle * double(distance) * distance / std::max(facing, minFacing);
 }
 
-bool probeSees(const ProbeView& probe, const glm::vec3& x, float relativeTolerance) {
+bool probeSees(const DecodedProbe& probe, const glm::vec3& x, float relativeTolerance) {
     const glm::vec3 d = x - probe.position;
     const float stored = probe.distance[cube::texelIndex(d, probe.depthRes)];
     if (!(stored > 0.0f)) return false;  // the probe saw nothing there: x cannot be on a surface it saw
     return glm::length(d) <= stored * (1.0f + relativeTolerance);
 }
 
-Projected projectAo(std::span<const ProbeView> candidates, const glm::vec3& x, const glm::vec3& n,
+Projected projectAo(std::span<const DecodedProbe> candidates, const glm::vec3& x, const glm::vec3& n,
                     const ProjectSettings& settings) {
     struct Ranked {
         double quality = 0.0;
         float ao = 1.0f;
     };
     Ranked best[3];  // descending quality
-    for (const ProbeView& probe : candidates) {
+    for (const DecodedProbe& probe : candidates) {
         if (!probeSees(probe, x, settings.depthTolerance)) continue;
         const double area = texelFootprint(probe.position, x, n, probe.res, settings.minFacing);
         if (!std::isfinite(area)) continue;

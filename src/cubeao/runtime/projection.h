@@ -27,7 +27,7 @@ struct ProjectSettings {
 
 // One probe as the projection reads it: decoded AO + confidence per texel (cube::texelIndex order,
 // res × res faces) and a distance cube (depthRes × depthRes faces, distance from the probe, 0 = empty).
-struct ProbeView {
+struct DecodedProbe {
     glm::vec3 position{0.0f};
     int res = 0;
     std::span<const float> ao, confidence;
@@ -42,7 +42,7 @@ double texelFootprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec
 
 // Whether the probe sees x: |x − probe| within the distance cube's value in that direction, with
 // slack `relativeTolerance` (fraction of the distance).
-bool probeSees(const ProbeView& probe, const glm::vec3& x, float relativeTolerance);
+bool probeSees(const DecodedProbe& probe, const glm::vec3& x, float relativeTolerance);
 
 struct Projected {
     float ao = 1.0f;
@@ -51,7 +51,7 @@ struct Projected {
 };
 
 // AO at x (normal n) from the candidate probes: depth test, quality, soft best-two blend.
-Projected projectAo(std::span<const ProbeView> candidates, const glm::vec3& x, const glm::vec3& n,
+Projected projectAo(std::span<const DecodedProbe> candidates, const glm::vec3& x, const glm::vec3& n,
                     const ProjectSettings& settings);
 
 // Resolves zero fields of settings for a depth cube of depthRes texels per side.
