@@ -14,6 +14,7 @@ void addCompare(CLI::App& app);
 void addPlace(CLI::App& app);
 void addBake(CLI::App& app);
 void addBench(CLI::App& app);
+void addRender(CLI::App& app);
 
 // Prints `j` compactly on one line to stdout (the last line a --json command prints).
 void printJson(const nlohmann::json& j);

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
     cubeao::cli::addBake(app);
     cubeao::cli::addCompare(app);
     cubeao::cli::addBench(app);
+    cubeao::cli::addRender(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,0 +1,43 @@
+#version 450 core
+// One pass of the separable edge-aware AO blur (src/cubeao/runtime/blur.h): 2·radius + 1 taps along
+// `axis`, a Gaussian (σ = radius/2) times the bilateral weight of each tap. Twin: blurAoCpu in blur.cpp.
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "bilateral.glsl"
+#include "camera.glsl"
+
+layout(binding = 0) uniform sampler2D gDepth;
+layout(binding = 1) uniform sampler2D gNormal;
+layout(binding = 2) uniform sampler2D aoIn;
+layout(r32f, binding = 0) writeonly uniform image2D aoOut;
+
+uniform ivec2 axis;  // (1, 0) horizontal, (0, 1) vertical
+uniform int radius;
+uniform float normalPower;
+uniform float depthTolerance;
+
+void main() {
+    ivec2 c = ivec2(gl_GlobalInvocationID.xy);
+    if (!onScreen(c)) return;
+    float ao = texelFetch(aoIn, c, 0).r;
+    float zc = texelFetch(gDepth, c, 0).r;
+    if (zc > 0.0) {
+        vec3 nc = texelFetch(gNormal, c, 0).xyz;
+        vec3 pc = viewPosition(c, zc);
+        float sum = ao, weights = 1.0;
+        float sigma = 0.5 * float(radius);
+        for (int i = -radius; i <= radius; ++i) {
+            ivec2 s = c + i * axis;
+            if (i == 0 || !onScreen(s)) continue;
+            float zs = texelFetch(gDepth, s, 0).r;
+            if (!(zs > 0.0)) continue;
+            float w = exp(-float(i * i) / (2.0 * sigma * sigma)) *
+                      bilateralWeight(nc, pc, zc, texelFetch(gNormal, s, 0).xyz, viewPosition(s, zs), normalPower,
+                                      depthTolerance);
+            sum += w * texelFetch(aoIn, s, 0).r;
+            weights += w;
+        }
+        ao = sum / weights;
+    }
+    imageStore(aoOut, c, vec4(ao));
+}

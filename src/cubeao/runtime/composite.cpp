@@ -1,0 +1,56 @@
+#include "cubeao/runtime/composite.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "cubeao/core/error.h"
+#include "cubeao/gl/shader.h"
+
+namespace cubeao {
+
+glm::vec3 defaultLightDirection(const glm::vec3& up) {
+    const glm::vec3 u = glm::normalize(up);
+    // Any fixed horizontal direction: the axis least aligned with up, made orthogonal to it.
+    const glm::vec3 a = std::abs(u.x) < 0.9f ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(0.0f, 0.0f, 1.0f);
+    const glm::vec3 h = glm::normalize(a - u * glm::dot(a, u));
+    const glm::vec3 h2 = glm::cross(u, h);
+    const float elevation = 1.0471976f;  // 60°
+    return glm::normalize(std::sin(elevation) * u + std::cos(elevation) * glm::normalize(h + 0.6f * h2));
+}
+
+glm::vec3 compositePixel(const glm::vec3& normal, const glm::vec3& light, float ao, const CompositeSettings& s) {
+    const glm::vec3 direct = s.albedo * (s.ambient + s.diffuse * std::max(0.0f, glm::dot(normal, light)));
+    return glm::clamp(direct * ((1.0f - s.alpha) + s.alpha * ao), glm::vec3(0.0f), glm::vec3(1.0f));
+}
+
+Composite::Composite(const CompositeSettings& settings) : settings_(settings) {
+    if (!(glm::length(settings.lightDirection) > 0.0f)) throw Error("Composite: light direction is zero");
+    if (!(settings.alpha >= 0.0f && settings.alpha <= 1.0f)) throw UsageError("--alpha must lie in [0, 1]");
+    settings_.lightDirection = glm::normalize(settings.lightDirection);
+    program_ = gl::compileComputeProgram("runtime/composite.comp");
+    const GLuint p = program_.id();
+    glProgramUniform1f(p, glGetUniformLocation(p, "alpha"), settings.alpha);
+    glProgramUniform1f(p, glGetUniformLocation(p, "ambient"), settings.ambient);
+    glProgramUniform1f(p, glGetUniformLocation(p, "diffuse"), settings.diffuse);
+    glProgramUniform3fv(p, glGetUniformLocation(p, "albedo"), 1, glm::value_ptr(settings.albedo));
+    glProgramUniform3fv(p, glGetUniformLocation(p, "sky"), 1, glm::value_ptr(settings.sky));
+}
+
+void Composite::run(const CameraGBuffer& gbuffer, const CameraView& view, GLuint ao, GLuint output) {
+    const GLuint p = program_.id();
+    const glm::vec3 light = glm::normalize(view.viewFromWorldRotation() * settings_.lightDirection);
+    glProgramUniform2i(p, glGetUniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
+    glProgramUniform3fv(p, glGetUniformLocation(p, "light"), 1, glm::value_ptr(light));
+    glUseProgram(p);
+    glBindTextureUnit(0, gbuffer.depthTexture());
+    glBindTextureUnit(1, gbuffer.normalTexture());
+    glBindTextureUnit(2, ao);
+    glBindImageTexture(0, output, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glDispatchCompute(GLuint((gbuffer.width() + 7) / 8), GLuint((gbuffer.height() + 7) / 8), 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+}
+
+}  // namespace cubeao

@@ -1,0 +1,212 @@
+// cubeao render SCENE --camera PATH.json --out DIR [--method ...]: run-time AO of a camera path, one
+// pass at a time (camera G-buffer → AO method → edge-aware blur → composite), with per-pass timings.
+// Writes ao_NNNN.exr (+ .png) comparable with `cubeao reference` and a lit preview shaded_NNNN.png.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+
+#include "commands.h"
+#include "cubeao/core/error.h"
+#include "cubeao/core/progress.h"
+#include "cubeao/gl/context.h"
+#include "cubeao/gl/timer.h"
+#include "cubeao/metrics/image_io.h"
+#include "cubeao/runtime/renderer.h"
+#include "cubeao/scene/builtin.h"
+#include "cubeao/scene/import.h"
+#include "cubeao/ssao/ssao_pass.h"
+
+namespace cubeao::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RenderArgs {
+    std::string scene, camera, out, cache, frames, method = "gtao", falloff = "none";
+    int width = 0, height = 0, directions = 0, steps = 0, blur = BlurSettings{}.radius;
+    float radius = 0.0f, alpha = 1.0f, alchemySigma = 0.0f;
+    std::uint32_t seed = 0;
+    bool json = false;
+};
+
+// --width/--height: either, both or neither; the missing one keeps the camera file's aspect
+// (as `cubeao reference`, so the two write images of the same size).
+void resolveSize(const RenderArgs& a, const CameraPath& path, int& w, int& h) {
+    w = a.width, h = a.height;
+    if (w < 0 || h < 0) throw UsageError("--width and --height must be positive");
+    if (!w && !h) w = path.width, h = path.height;
+    if (!w) w = std::max(1, int(std::lround(double(h) * path.width / path.height)));
+    if (!h) h = std::max(1, int(std::lround(double(w) * path.height / path.width)));
+}
+
+std::string frameName(const char* prefix, std::size_t index, const char* ext) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%s_%04zu.%s", prefix, index, ext);
+    return buf;
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Every problem with the method choice is a usage error, found before any file is read.
+SsaoMethod parseMethod(const RenderArgs& a) {
+    if (a.method == "probes")
+        throw UsageError("--method probes: projection from a probe cache (--cache) is not available yet; "
+                         "use alchemy, hbao or gtao");
+    if (a.method != "alchemy" && a.method != "hbao" && a.method != "gtao")
+        throw UsageError("--method \"" + a.method + "\": expected probes, alchemy, hbao or gtao");
+    return parseSsaoMethod(a.method);
+}
+
+nlohmann::json timingsJson(const std::vector<PassTimings>& t) {
+    std::vector<double> g, ao, blur, comp, read, total;
+    for (const PassTimings& p : t) {
+        g.push_back(p.gbuffer), ao.push_back(p.ao), blur.push_back(p.blur), comp.push_back(p.composite);
+        read.push_back(p.readback), total.push_back(p.gbuffer + p.ao + p.blur + p.composite);
+    }
+    return {{"gbuffer", median(g)}, {"ao", median(ao)},       {"blur", median(blur)},
+            {"composite", median(comp)}, {"readback", median(read)}, {"gpu_total", median(total)}};
+}
+
+struct PassSettings {
+    SsaoSettings ssao;  // radius still 0 = scene default until the scene is loaded
+    BlurSettings blur;
+};
+
+// Every usage error, before any file is read.
+PassSettings usageChecked(const RenderArgs& a) {
+    PassSettings p;
+    p.ssao.method = parseMethod(a);
+    p.ssao.falloff = parseFalloff(a.falloff);
+    p.ssao.directions = a.directions, p.ssao.steps = a.steps, p.ssao.seed = a.seed;
+    if (a.alchemySigma < 0.0f) throw UsageError("--alchemy-sigma must be positive");
+    p.ssao.alchemyIntensity = a.alchemySigma;
+    if (a.radius < 0.0f) throw UsageError("--radius must be positive");
+    p.ssao.radius = a.radius;
+    p.blur.radius = a.blur;
+    validateBlurSettings(p.blur);
+    if (!(a.alpha >= 0.0f && a.alpha <= 1.0f)) throw UsageError("--alpha must lie in [0, 1]");
+    if (!a.cache.empty()) spdlog::warn("render: --cache is used only by --method probes; ignored for {}", a.method);
+    return p;
+}
+
+// The method as a pass from the camera G-buffer to raw AO; blur and composite are shared. The probe
+// projection (--method probes, with --cache) becomes one more case here.
+std::unique_ptr<AoPass> makeAoPass(const SsaoSettings& ssao) { return std::make_unique<SsaoPass>(ssao); }
+
+// Writes ao_NNNN.exr/.png and shaded_NNNN.png of frame f; returns its entry of "frames".
+nlohmann::json writeFrame(const fs::path& out, std::size_t f, const RenderedFrame& frame) {
+    const fs::path exr = out / frameName("ao", f, "exr"), shaded = out / frameName("shaded", f, "png");
+    writeExr(exr, frame.ao);
+    writePng(out / frameName("ao", f, "png"), frame.ao);
+    writePngRgb(shaded, frame.ao.width, frame.ao.height, frame.shadedRgb);
+    const PassTimings& t = frame.timings;
+    return {{"index", f},
+            {"file", exr.string()},
+            {"shaded", shaded.string()},
+            {"timings_ms",
+             {{"gbuffer", t.gbuffer}, {"ao", t.ao}, {"blur", t.blur}, {"composite", t.composite}, {"readback", t.readback}}}};
+}
+
+void run(const RenderArgs& a) {
+    PassSettings settings = usageChecked(a);
+    const Scene scene = loadScene(a.scene);
+    const CameraPath path = resolveCameraPath(a.camera, a.scene);
+    const FrameRange range = parseFrameRange(a.frames, path.frames.size());
+    const SsaoSettings ssao = resolveSsaoSettings(settings.ssao, scene.defaultRadius());
+    int w = 0, h = 0;
+    resolveSize(a, path, w, h);
+    fs::create_directories(a.out);
+
+    const gl::HeadlessContext context = gl::HeadlessContext::create();
+    spdlog::info("render: {} ({} triangles), {} frames {}:{} at {}x{}, R = {}, on {}", scene.source,
+                 scene.triangleCount(), ssaoMethodName(ssao.method), range.begin, range.end, w, h, ssao.radius,
+                 context.renderer());
+    CompositeSettings composite;
+    composite.alpha = a.alpha;
+    composite.lightDirection = defaultLightDirection(scene.up);
+    FrameRenderer renderer(scene.positions, scene.indices, makeAoPass(ssao), settings.blur, composite);
+
+    nlohmann::json frames = nlohmann::json::array();
+    std::vector<PassTimings> timings;
+    double fetches = 0.0;
+    Progress progress("render", range.size());
+    for (std::size_t f = range.begin; f < range.end; ++f) {
+        const RenderedFrame frame =
+            renderer.render(CameraView::fromPinhole(PinholeCamera(path, f, w, h), path.nearPlane), std::uint32_t(f));
+        fetches += renderer.method().fetchesPerPixel();
+        timings.push_back(frame.timings);
+        frames.push_back(writeFrame(a.out, f, frame));
+        progress.advance();
+    }
+    const double fetchesPerPixel = fetches / double(range.size());
+    const nlohmann::json medians = timingsJson(timings);
+    const bool wall = gl::trustedClock() == gl::GpuClock::WallClock;
+    const nlohmann::json result = {{"scene", scene.source},
+                                   {"scene_hash", hashToString(scene.hash)},
+                                   {"method", renderer.method().name()},
+                                   {"radius", ssao.radius},
+                                   {"falloff", falloffName(ssao.falloff)},
+                                   {"directions", ssao.directions},
+                                   {"steps", ssao.steps},
+                                   {"blur", settings.blur.radius},
+                                   {"alpha", composite.alpha},
+                                   {"seed", ssao.seed},
+                                   {"width", w},
+                                   {"height", h},
+                                   {"frames", frames},
+                                   {"timings_ms", medians},
+                                   {"clock", wall ? "wall_clock_glfinish" : "gl_timer_query"},
+                                   {"renderer", context.renderer()},
+                                   {"fetches_per_pixel", fetchesPerPixel},
+                                   {"fetches_per_pixel_planned", plannedFetchesPerPixel(ssao)},
+                                   {"blur_fetches_per_pixel", renderer.blur().fetchesPerPixel()},
+                                   {"out", a.out}};
+    std::ofstream(fs::path(a.out) / "render.json") << result.dump(1) << '\n';
+    std::printf("render: %s, %zu frames -> %s; median ms: G-buffer %.2f, AO %.2f, blur %.2f, composite %.2f, "
+                "read-back %.2f (%s); %.1f fetches/pixel\n",
+                renderer.method().name(), range.size(), a.out.c_str(), medians["gbuffer"].get<double>(),
+                medians["ao"].get<double>(), medians["blur"].get<double>(), medians["composite"].get<double>(),
+                medians["readback"].get<double>(), wall ? "wall clock" : "GL timer queries", fetchesPerPixel);
+    if (a.json) {
+        std::fflush(stdout);  // the summary (stdio) before the JSON line (iostream)
+        printJson(result);
+    }
+}
+
+}  // namespace
+
+void addRender(CLI::App& app) {
+    auto* cmd = app.add_subcommand("render", "Run-time AO of a camera path: screen-space baselines (probes: later)");
+    auto a = std::make_shared<RenderArgs>();
+    cmd->add_option("scene", a->scene, "Model file or builtin:NAME")->required();
+    cmd->add_option("--camera", a->camera, "Camera path JSON (default for built-in scenes: their own path)");
+    cmd->add_option("--out", a->out, "Output directory for ao_NNNN.exr/.png, shaded_NNNN.png, render.json")->required();
+    cmd->add_option("--method", a->method, "probes | alchemy | hbao | gtao")->capture_default_str();
+    cmd->add_option("--cache", a->cache, "Probe cache (.cubeao); needed by --method probes only");
+    cmd->add_option("--frames", a->frames, "Half-open frame range A:B (default: all)");
+    cmd->add_option("--width", a->width, "Image width (default: the camera file's)");
+    cmd->add_option("--height", a->height, "Image height (default: the camera file's)");
+    cmd->add_option("--radius", a->radius, "AO radius R in scene units (default: 2% of the bbox diagonal)");
+    cmd->add_option("--falloff", a->falloff, "none | smooth")->capture_default_str();
+    cmd->add_option("--directions", a->directions, "Screen directions N_d, even (default 8)");
+    cmd->add_option("--steps", a->steps, "March steps per direction N_s (default 8)");
+    cmd->add_option("--alchemy-sigma", a->alchemySigma, "Alchemy intensity sigma (default 0.8)");
+    cmd->add_option("--blur", a->blur, "Blur taps on each side per pass, 0 = off")->capture_default_str();
+    cmd->add_option("--alpha", a->alpha, "AO strength in the preview: i = i_s((1-a) + a*ao)")->capture_default_str();
+    cmd->add_option("--seed", a->seed, "Changes every pixel's jitter");
+    cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
+    cmd->callback([a] { run(*a); });
+}
+
+}  // namespace cubeao::cli
