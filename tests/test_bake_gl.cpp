@@ -89,6 +89,7 @@ TEST_F(GlTest, GBufferMatchesEmbreePrimaryRaysAndBothGpuModesAgree) {
     const Scene& scene = boxRoom();
     const BakeSettings s = settingsFor(Estimator::HorizonSplit, 32, 0.5f);
     GpuBaker baker(scene, s);
+    baker.setReadback(BakeReadback::All);
     const BakedProbe layered = baker.bake(kBoxProbe, 0);
     baker.setGBufferMode(GBufferMode::SixPass);
     const BakedProbe sixPass = baker.bake(kBoxProbe, 0);
@@ -152,6 +153,7 @@ TEST_F(GlTest, GtaoPassMatchesTheCppTwin) { expectHorizonTwin(Estimator::Gtao); 
 void expectTracedTwin(const Scene& scene, const glm::vec3& probe, float radius, int res, int spp) {
     const BakeSettings s = settingsFor(Estimator::Traced, res, radius, spp);
     GpuBaker baker(scene, s);
+    baker.setReadback(BakeReadback::All);
     const BakedProbe baked = baker.bake(probe, 5);
     const VerifyResult v = verifyProbe(EmbreeScene(scene), baked, 5, s);
     EXPECT_GT(v.texels, 0u);
@@ -176,9 +178,12 @@ TEST_F(GlTest, HybridTracesExactlyTheLowConfidenceTexels) {
     hy.estimator = Estimator::Hybrid;
     BakeSettings tr = hs;
     tr.estimator = Estimator::Traced;
-    const BakedProbe h = GpuBaker(scene, hs).bake(kBoxProbe, 2);
-    const BakedProbe y = GpuBaker(scene, hy).bake(kBoxProbe, 2);
-    const BakedProbe t = GpuBaker(scene, tr).bake(kBoxProbe, 2);
+    const auto bakeAll = [&](const BakeSettings& s) {
+        GpuBaker baker(scene, s);
+        baker.setReadback(BakeReadback::All);
+        return baker.bake(kBoxProbe, 2);
+    };
+    const BakedProbe h = bakeAll(hs), y = bakeAll(hy), t = bakeAll(tr);
     std::uint64_t lowConfidence = 0;
     for (std::size_t i = 0; i < h.ao.size(); ++i) {
         if (CubeGBuffer::empty(h.gbuffer.texels[i])) continue;

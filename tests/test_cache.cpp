@@ -42,11 +42,13 @@ CacheParams smallParams(std::uint32_t res = 8, std::uint32_t depthRes = 4, Depth
     return p;
 }
 
-// Random payload bytes; probe i sits at (i + 1 + offset, 2, 3) so positions are distinct.
+// Random payload bytes; probe i sits at (i + 1 + offset, 2, 3) and has index i + offset, so positions
+// and indices are distinct.
 std::vector<ProbeRecord> randomProbes(const CacheParams& p, int n, unsigned seed, float offset = 0.0f) {
     std::mt19937 rng(seed);
     std::vector<ProbeRecord> probes(n);
     for (int i = 0; i < n; ++i) {
+        probes[i].index = std::uint32_t(i) + std::uint32_t(offset);
         probes[i].position = {float(i) + 1.0f + offset, 2.0f, 3.0f};
         probes[i].maxDistance = 10.0f + float(i);
         probes[i].aoConfidence.resize(aoSectionSize(p));
@@ -69,6 +71,7 @@ void writeBytes(const std::filesystem::path& p, const Bytes& b, std::size_t n) {
 void writeBytes(const std::filesystem::path& p, const Bytes& b) { writeBytes(p, b, b.size()); }
 
 void expectSameProbe(const ProbeView& v, const ProbeRecord& r) {
+    EXPECT_EQ(v.index, r.index);
     EXPECT_EQ(v.position, r.position);
     EXPECT_EQ(v.maxDistance, r.maxDistance);
     EXPECT_TRUE(std::equal(v.aoConfidence.begin(), v.aoConfidence.end(), r.aoConfidence.begin(), r.aoConfidence.end()));
@@ -139,6 +142,7 @@ TEST(CacheFile, RoundTrip) {
     EXPECT_EQ(std::filesystem::file_size(dir / "a.cubeao"), cacheFileSize(p, 3));
     for (std::size_t i = 0; i < 3; ++i) {
         EXPECT_EQ(r.position(i), probes[i].position);
+        EXPECT_EQ(r.index(i), probes[i].index);
         const ProbeView v = r.probe(i);
         expectSameProbe(v, probes[i]);
         // Sections are uploadable straight from the mapping.
@@ -269,7 +273,8 @@ TEST(CacheFile, ForgedOffsetsAndSizesAreRefused) {
     expectRefused(e1 + 40, 0, 8, "probe 1: depth section is 0 bytes, depthRes 4 r16unorm needs 192");
     expectRefused(e1 + 0, 0x7fc00000, 4, "probe 1: position (nan, 2, 3) is not finite");
     expectRefused(e1 + 12, 0xbf800000, 4, "probe 1: maxDistance -1 is not finite and >= 0");
-    expectRefused(e1 + 56, 1, 1, "probe 1: reserved bytes");
+    expectRefused(e1 + 60, 1, 1, "probe 1: reserved bytes");
+    expectRefused(e1 + 56, 0, 4, "probe 1: index 0 is also probe 0's");
     expectRefused(60, 4, 4, "header: payload offset 320, the table of 4 probes ends at 384");
     expectRefused(80, ~std::uint64_t(0) - 100, 8, "header: file size");
     expectRefused(64, 0, 8, "header: probe table offset 0");
@@ -317,8 +322,10 @@ TEST(CacheFile, WriteFailuresNameTheFile) {
     bad.radius = 0.0f;
     msg = errorMessage([&] { writeCache(dir / "b.cubeao", bad, probes); });
     EXPECT_TRUE(contains(msg, "res 6") && contains(msg, "radius 0")) << msg;
+    probes[1].index = probes[0].index;
     msg = errorMessage([&] { writeCache(dir / "b.cubeao", p, probes); });
     EXPECT_TRUE(contains(msg, "probe 1: depth section has 191 bytes, depthRes 4 r16unorm needs 192")) << msg;
+    EXPECT_TRUE(contains(msg, "probe 1: index 0 is also probe 0's")) << msg;
     EXPECT_FALSE(std::filesystem::exists(dir / "b.cubeao"));
 }
 
@@ -394,6 +401,13 @@ TEST(CacheFile, AppendAddsProbesAndRefusesOtherParameters) {
         << msg;
     msg = errorMessage([&] { appendToCache(path, p, randomProbes(p, 1, 17)); });  // position of probe 0
     EXPECT_TRUE(contains(msg, "new probe 0 at (1, 2, 3) is already probe 0 of the cache")) << msg;
+    auto sameIndex = randomProbes(p, 2, 17, 20.0f);
+    sameIndex[1].index = 11;  // the index of the cache's probe 3
+    msg = errorMessage([&] { appendToCache(path, p, sameIndex); });
+    EXPECT_TRUE(contains(msg, "new probe 1 has index 11, as probe 3 of the cache")) << msg;
+    sameIndex[1].index = 20;  // the index of new probe 0
+    msg = errorMessage([&] { appendToCache(path, p, sameIndex); });
+    EXPECT_TRUE(contains(msg, "new probe 1 has index 20, as probe 0 of the new probes")) << msg;
     EXPECT_EQ(readBytes(path), before);
 
     Bytes damaged = before;
@@ -438,6 +452,13 @@ TEST(CacheFile, MergeShardsAndRefuseMismatches) {
     EXPECT_TRUE(contains(msg, (dir / "d.cubeao").string()) && contains(msg, "scene hash")) << msg;
     msg = errorMessage([&] { mergeCaches(dir / "out2.cubeao", {dir / "a.cubeao", dir / "a.cubeao"}); });
     EXPECT_TRUE(contains(msg, "probe 0 at (1, 2, 3) is also probe 0 of")) << msg;
+    auto shifted = randomProbes(p, 1, 23, 40.0f);
+    shifted[0].index = 1;  // a probe of a.cubeao at another position: the same probe, moved
+    writeCache(dir / "e.cubeao", p, shifted);
+    msg = errorMessage([&] { mergeCaches(dir / "out2.cubeao", {dir / "a.cubeao", dir / "e.cubeao"}); });
+    EXPECT_TRUE(contains(msg, (dir / "e.cubeao").string() + ": probe 0 has index 1, as probe 1 of " +
+                                  (dir / "a.cubeao").string()))
+        << msg;
     EXPECT_TRUE(contains(errorMessage([&] { mergeCaches(dir / "out2.cubeao", {}); }), "at least one input"));
     EXPECT_FALSE(std::filesystem::exists(dir / "out2.cubeao"));
 }

@@ -4,10 +4,15 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <vector>
 #include <sys/wait.h>
 
 #include <nlohmann/json.hpp>
 
+#include "cubeao/cache/cache_file.h"
 #include "test_util.h"
 
 namespace {
@@ -20,8 +25,9 @@ struct CliRun {
     std::string out;
 };
 
-CliRun run(const std::string& args) {
-    const std::string cmd = std::string(CUBEAO_BINARY) + " " + args + " 2>/dev/null";
+// Runs the binary; `out` is its stdout, followed by its stderr when withStderr.
+CliRun run(const std::string& args, bool withStderr = false) {
+    const std::string cmd = std::string(CUBEAO_BINARY) + " " + args + (withStderr ? " 2>&1" : " 2>/dev/null");
     CliRun r;
     FILE* p = popen(cmd.c_str(), "r");
     if (!p) return r;
@@ -80,7 +86,7 @@ TEST(Cli, PlaceAlongThePathWritesAProbeSetBakeReads) {
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_EQ(lastLine(r.out)["probes"].get<int>(), 3);
     const CliRun b = run("bake builtin:box-room --probes " + probes.string() + " --out " +
-                         (dir.path() / "bake").string() + " --res 4 --spp 2 --device cpu --json");
+                         (dir.path() / "bake.cubeao").string() + " --res 4 --spp 2 --device cpu --json");
     ASSERT_EQ(b.code, 0) << b.out;
     EXPECT_EQ(lastLine(b.out)["probes"].get<int>(), 3);
     EXPECT_EQ(run("place builtin:box-room --method voting --out " + probes.string()).code, 2);
@@ -90,7 +96,7 @@ TEST(Cli, PlaceAlongThePathWritesAProbeSetBakeReads) {
 TEST(Cli, BakeCpuWritesProbesAndVerifies) {
     TempDir dir;
     const std::string probes = dir.write("probes.json", R"({"version":1,"probes":[{"pos":[3,1.4,2.5]},{"pos":[6,1.5,1.5]}]})");
-    const fs::path out = dir.path() / "bake", dump = dir.path() / "dump";
+    const fs::path out = dir.path() / "bake.cubeao", dump = dir.path() / "dump";
     const CliRun r = run("bake builtin:box-room --probes " + probes + " --out " + out.string() + " --dump " +
                          dump.string() + " --res 8 --spp 8 --device cpu --verify --json");
     ASSERT_EQ(r.code, 0) << r.out;
@@ -99,31 +105,209 @@ TEST(Cli, BakeCpuWritesProbesAndVerifies) {
     EXPECT_GT(j["ms_per_probe"].get<double>(), 0.0);
     EXPECT_EQ(j["verify_mae"].get<double>(), 0.0) << "CPU traced and its Embree twin trace the same rays";
     ASSERT_EQ(j["per_probe"].size(), 2u);
-    EXPECT_TRUE(fs::exists(out / "bake.json"));
-    EXPECT_TRUE(fs::exists(out / "probe_0001_ao.exr"));
+    EXPECT_EQ(cubeao::CacheReader(out).probeCount(), 2u);
     EXPECT_TRUE(fs::exists(dump / "probe_0001_cross.png"));
 
-    // A shard bakes every N-th probe, keeping the global probe index in its file names.
-    const fs::path shard = dir.path() / "shard";
+    // A shard bakes every N-th probe, keeping the global probe index.
+    const fs::path shard = dir.path() / "shard.cubeao";
     const CliRun s = run("bake builtin:box-room --probes " + probes + " --out " + shard.string() +
                          " --res 8 --estimator hsplit --device cpu --shard 1/2 --json");
     ASSERT_EQ(s.code, 0) << s.out;
     EXPECT_EQ(lastLine(s.out)["probes"].get<int>(), 1);
-    EXPECT_TRUE(fs::exists(shard / "probe_0001_ao.exr"));
-    EXPECT_FALSE(fs::exists(shard / "probe_0000_ao.exr"));
+    const cubeao::CacheReader shardCache(shard);
+    ASSERT_EQ(shardCache.probeCount(), 1u);
+    EXPECT_EQ(shardCache.index(0), 1u);
 }
 
 TEST(Cli, BakeRejectsBadInput) {
     TempDir dir;
     const std::string good = dir.write("good.json", R"({"version":1,"probes":[{"pos":[3,1.4,2.5]}]})");
-    const std::string out = " --out " + (dir.path() / "out").string() + " --device cpu --res 8";
+    const std::string out = " --out " + (dir.path() / "out.cubeao").string() + " --device cpu --res 8";
     EXPECT_EQ(run("bake builtin:box-room --probes " + good + out + " --estimator ssao").code, 2);
     EXPECT_EQ(run("bake builtin:box-room --probes " + good + out + " --res 2").code, 2);
+    EXPECT_EQ(run("bake builtin:box-room --probes " + good + out + " --res 10").code, 2);  // BC5: multiple of 4
+    EXPECT_EQ(run("bake builtin:box-room --probes " + good + out + " --depth-format r8").code, 2);
     EXPECT_EQ(run("bake builtin:box-room --probes " + good + out + " --shard 2/2").code, 2);
     EXPECT_EQ(run("bake builtin:box-room --probes " + good + out + " --device tpu").code, 2);
     EXPECT_EQ(run("bake builtin:box-room --probes " + dir.write("v2.json", R"({"version":2,"probes":[]})") + out).code, 1);
     EXPECT_EQ(run("bake builtin:box-room --probes " + dir.write("nan.json", R"({"version":1,"probes":[{"pos":[1,"x",2]}]})") + out).code, 1);
     EXPECT_EQ(run("bake builtin:box-room --probes " + (dir.path() / "missing.json").string() + out).code, 1);
+}
+
+// ---- the probe cache: bake → info, resume, shards → merge, damage ---------------------------------
+
+using cubeao::CacheReader;
+using cubeao::test::contains;
+
+std::string probeSet(const TempDir& dir, const std::string& name, int count) {
+    const char* positions[] = {"[3,1.4,2.5]", "[6,1.5,1.5]", "[1.5,1.2,4]", "[7,1,3.5]"};
+    std::string json = R"({"version":1,"probes":[)";
+    for (int i = 0; i < count; ++i) json += std::string(i ? "," : "") + R"({"pos":)" + positions[i] + "}";
+    return dir.write(name, json + "]}");
+}
+
+std::vector<std::uint8_t> fileBytes(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// Probe bytes (AO and depth sections) by index, to compare caches whatever their table order.
+std::map<std::uint32_t, std::vector<std::uint8_t>> probesByIndex(const fs::path& p) {
+    const CacheReader cache(p);
+    std::map<std::uint32_t, std::vector<std::uint8_t>> out;
+    for (std::size_t i = 0; i < cache.probeCount(); ++i) {
+        const cubeao::ProbeView v = cache.probe(i);
+        auto& bytes = out[v.index];
+        bytes.assign(v.aoConfidence.begin(), v.aoConfidence.end());
+        bytes.insert(bytes.end(), v.depth.begin(), v.depth.end());
+    }
+    return out;
+}
+
+TEST(CliCache, BakeWritesACacheThatInfoDescribes) {
+    TempDir dir;
+    const fs::path probes = dir.path() / "probes.json", cache = dir.path() / "box.cubeao";
+    ASSERT_EQ(run("place builtin:box-room --budget 3 --out " + probes.string()).code, 0);
+    const CliRun b = run("bake builtin:box-room --probes " + probes.string() + " --out " + cache.string() +
+                         " --res 16 --spp 8 --device cpu --json");
+    ASSERT_EQ(b.code, 0) << b.out;
+    const auto baked = lastLine(b.out);
+    EXPECT_EQ(baked["probes"].get<int>(), 3);
+    EXPECT_GE(baked["ao_psnr"].get<double>(), 40.0);
+    EXPECT_TRUE(baked["timings_ms"].contains("encode"));
+
+    const CliRun i = run("info " + cache.string() + " --json");
+    ASSERT_EQ(i.code, 0) << i.out;
+    const auto info = lastLine(i.out);
+    EXPECT_EQ(info["probes"].get<int>(), 3);
+    EXPECT_EQ(info["res"].get<int>(), 16);
+    EXPECT_EQ(info["depth_res"].get<int>(), 4);
+    EXPECT_EQ(info["depth_format"].get<std::string>(), "r16unorm");
+    EXPECT_EQ(info["estimator"].get<std::string>(), "traced");
+    EXPECT_EQ(info["spp"].get<int>(), 8);
+    EXPECT_EQ(info["scene_hash"], lastLine(run("info builtin:box-room --json").out)["hash"]);
+    // Header 128 + 8, per probe a 64-byte entry, 6·16² BC5 bytes and 6·4² r16unorm texels.
+    const double expected = (136.0 + 3 * (64 + 6 * 256 + 6 * 16 * 2)) / (3 * 6 * 256);
+    EXPECT_DOUBLE_EQ(info["bytes_per_texel"].get<double>(), expected);
+    EXPECT_DOUBLE_EQ(baked["bytes_per_texel"].get<double>(), expected);
+    EXPECT_FALSE(info.contains("verified"));
+}
+
+TEST(CliCache, BakeResumesAndRefusesAnotherBake) {
+    TempDir dir;
+    const fs::path cache = dir.path() / "box.cubeao";
+    const std::string bake = "bake builtin:box-room --out " + cache.string() + " --res 8 --estimator hsplit --device cpu";
+    ASSERT_EQ(run(bake + " --probes " + probeSet(dir, "two.json", 2)).code, 0);
+    const auto before = probesByIndex(cache);
+    ASSERT_EQ(before.size(), 2u);
+
+    const CliRun more = run(bake + " --probes " + probeSet(dir, "four.json", 4) + " --json");
+    ASSERT_EQ(more.code, 0) << more.out;
+    const auto j = lastLine(more.out);
+    EXPECT_EQ(j["probes"].get<int>(), 2);  // baked now
+    EXPECT_EQ(j["probes_skipped"].get<int>(), 2);
+    EXPECT_EQ(j["probes_in_cache"].get<int>(), 4);
+    const auto after = probesByIndex(cache);
+    ASSERT_EQ(after.size(), 4u);
+    EXPECT_EQ(after.at(0), before.at(0));  // the first two untouched
+    EXPECT_EQ(after.at(1), before.at(1));
+    EXPECT_TRUE(CacheReader(cache).probe(3).depth.size() > 0);
+
+    const auto bytes = fileBytes(cache);
+    CliRun other = run(bake + " --probes " + probeSet(dir, "four2.json", 4) + " --seed 3", true);
+    EXPECT_EQ(other.code, 1);
+    EXPECT_TRUE(contains(other.out, "other bake parameters") && contains(other.out, "seed 0 vs 3") &&
+                contains(other.out, "choose another --out or delete the file"))
+        << other.out;
+    other = run("bake builtin:cloister --probes " + probeSet(dir, "four3.json", 4) + " --out " + cache.string() +
+                    " --res 8 --estimator hsplit --device cpu",
+                true);
+    EXPECT_EQ(other.code, 1);
+    EXPECT_TRUE(contains(other.out, "scene hash")) << other.out;
+    const std::string moved = dir.write("moved.json", R"({"version":1,"probes":[{"pos":[3,1.4,2.5]},{"pos":[5,1,1]}]})");
+    other = run(bake + " --probes " + moved, true);
+    EXPECT_EQ(other.code, 1);
+    EXPECT_TRUE(contains(other.out, "probe set changed")) << other.out;
+    EXPECT_EQ(fileBytes(cache), bytes);  // refused runs leave the cache as it was
+
+    other = run("bake builtin:box-room --out " + dir.path().string() + " --probes " + moved + " --device cpu", true);
+    EXPECT_EQ(other.code, 1);
+    EXPECT_TRUE(contains(other.out, "--out is a directory")) << other.out;
+}
+
+TEST(CliCache, ShardsMergeIntoTheUnshardedCache) {
+    TempDir dir;
+    const std::string probes = probeSet(dir, "probes.json", 3);
+    const auto bake = [&](const std::string& out, const std::string& extra) {
+        return run("bake builtin:box-room --probes " + probes + " --out " + (dir.path() / out).string() +
+                   " --res 8 --spp 4 --device cpu " + extra);
+    };
+    ASSERT_EQ(bake("all.cubeao", "").code, 0);
+    ASSERT_EQ(bake("s1.cubeao", "--shard 1/2").code, 0);
+    ASSERT_EQ(bake("s0.cubeao", "--shard 0/2").code, 0);
+    const std::string s0 = (dir.path() / "s0.cubeao").string(), s1 = (dir.path() / "s1.cubeao").string();
+    const fs::path merged = dir.path() / "merged.cubeao";
+    const CliRun m = run("merge " + merged.string() + " " + s1 + " " + s0 + " --json");
+    ASSERT_EQ(m.code, 0) << m.out;
+    EXPECT_EQ(lastLine(m.out)["probes"].get<int>(), 3);
+    EXPECT_EQ(lastLine(m.out)["out"].get<std::string>(), merged.string());
+    EXPECT_EQ(probesByIndex(merged), probesByIndex(dir.path() / "all.cubeao"));
+    EXPECT_EQ(fileBytes(merged), fileBytes(dir.path() / "all.cubeao")) << "merge sorts by index";
+
+    CliRun bad = run("merge " + (dir.path() / "x.cubeao").string() + " " + s0 + " " + s0, true);
+    EXPECT_EQ(bad.code, 1);
+    EXPECT_TRUE(contains(bad.out, "overlapping shards")) << bad.out;
+    ASSERT_EQ(bake("other.cubeao", "--shard 1/2 --seed 5").code, 0);
+    bad = run("merge " + (dir.path() / "x.cubeao").string() + " " + s0 + " " + (dir.path() / "other.cubeao").string(), true);
+    EXPECT_EQ(bad.code, 1);
+    EXPECT_TRUE(contains(bad.out, "seed 0 vs 5")) << bad.out;
+    EXPECT_FALSE(fs::exists(dir.path() / "x.cubeao"));
+}
+
+TEST(CliCache, InfoVerifyFindsDamage) {
+    TempDir dir;
+    const fs::path cache = dir.path() / "box.cubeao", damaged = dir.path() / "damaged.cubeao";
+    ASSERT_EQ(run("bake builtin:box-room --probes " + probeSet(dir, "p.json", 2) + " --out " + cache.string() +
+                  " --res 8 --estimator hsplit --device cpu")
+                  .code,
+              0);
+    const CliRun ok = run("info " + cache.string() + " --verify --json");
+    ASSERT_EQ(ok.code, 0) << ok.out;
+    EXPECT_TRUE(lastLine(ok.out)["verified"].get<bool>());
+
+    auto bytes = fileBytes(cache);
+    const std::size_t inProbe1 = 128 + 2 * 64 + (6 * 64 + 6 * 4 * 2 + 15) / 16 * 16 + 10;
+    bytes[inProbe1] ^= 0x40;
+    std::ofstream(damaged, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    const CliRun bad = run("info " + damaged.string() + " --verify --json");
+    EXPECT_EQ(bad.code, 1);
+    const auto j = lastLine(bad.out);
+    EXPECT_FALSE(j["verified"].get<bool>());
+    EXPECT_TRUE(contains(j["damage"].get<std::string>(), "probe 1: checksum mismatch")) << j["damage"];
+    EXPECT_EQ(run("info " + damaged.string() + " --json").code, 0) << "without --verify only the header and table are read";
+    EXPECT_EQ(run("info builtin:box-room --verify").code, 2);
+}
+
+// The benchmarks behind the cache's choices run and report (figures: docs/BENCHMARKS.md).
+TEST(CliCache, BenchDepthAndBenchCacheReport) {
+    TempDir dir;
+    const CliRun d = run("bench depth --scene builtin:box-room --res 16 --probes 2 --frames 1 --width 16 --height 9 "
+                         "--divisor 1 --divisor 4 --json");
+    ASSERT_EQ(d.code, 0) << d.out;
+    const auto j = lastLine(d.out);
+    EXPECT_GT(j["pairs_visible"].get<int>(), 0);
+    EXPECT_EQ(j["variants"].size(), 3u + 6u);  // res/1: 3 formats; res/4: 3 formats × 2 filters
+    EXPECT_EQ(j["default"]["bake"]["variant"].get<std::string>(), "res/4 r16unorm min");
+    for (const auto& v : j["variants"])
+        for (const auto& t : v["tests"]) EXPECT_LE(t["false_hidden"].get<double>(), 1.0);
+
+    const fs::path cache = dir.path() / "bench.cubeao";
+    const CliRun c = run("bench cache --probes 3 --res 8 --runs 1 --keep --out " + cache.string() + " --json");
+    ASSERT_EQ(c.code, 0) << c.out;
+    const auto k = lastLine(c.out);
+    EXPECT_EQ(CacheReader(cache).probeCount(), 3u);
+    EXPECT_GE(k["cold"]["load_ms"].get<double>(), 0.0);
+    EXPECT_EQ(k["file_bytes"].get<std::uint64_t>(), fs::file_size(cache));
 }
 
 }  // namespace

@@ -49,16 +49,22 @@ TEST(ProjectionFootprint, IsTheTexelsSolidAngleTimesDistanceSquaredOverCosine) {
 }
 
 TEST(ProjectionDepthTest, SeesUpToTheStoredDistanceWithSlack) {
+    ProjectSettings s;
+    s.depthTolerance = 0.01f;
+    s.depthSlope = 1e-9f;  // no slope term: facing the probe squarely it would be 0 anyway
+    s = resolveProjectSettings(s);
+    const glm::vec3 facing(-1.0f, 0.0f, 0.0f);  // a wall facing the probe at the origin
     const SyntheticProbe probe({0, 0, 0}, 8, 0.5f, 1.0f, 4, 5.0f);
-    EXPECT_TRUE(probeSees(probe.view, {4.0f, 1.0f, 0.0f}, 0.01f));
-    EXPECT_TRUE(probeSees(probe.view, {5.04f, 0.0f, 0.0f}, 0.01f));
-    EXPECT_FALSE(probeSees(probe.view, {5.06f, 0.0f, 0.0f}, 0.01f));
+    EXPECT_TRUE(probeSees(probe.view, {4.0f, 1.0f, 0.0f}, facing, s));
+    EXPECT_TRUE(probeSees(probe.view, {5.04f, 0.0f, 0.0f}, facing, s));
+    EXPECT_FALSE(probeSees(probe.view, {5.06f, 0.0f, 0.0f}, facing, s));
+    EXPECT_FALSE(probeSees(probe.view, {4.0f, 0.0f, 0.0f}, -facing, s)) << "its back faces the probe";
     const SyntheticProbe empty({0, 0, 0}, 8, 0.5f, 1.0f, 4, 0.0f);
-    EXPECT_FALSE(probeSees(empty.view, {1.0f, 0.0f, 0.0f}, 0.01f)) << "an empty texel saw no surface";
+    EXPECT_FALSE(probeSees(empty.view, {1.0f, 0.0f, 0.0f}, facing, s)) << "an empty texel saw no surface";
 }
 
 TEST(ProjectionBlend, BestTwoBlendByQualityAndUncoveredIsReported) {
-    const ProjectSettings s = resolveProjectSettings({}, 16);
+    const ProjectSettings s = resolveProjectSettings({});
     const glm::vec3 x(0.0f, 0.0f, 0.0f), n(0.0f, 1.0f, 0.0f);
     // Two probes straight above at heights 1 and 2: areas in ratio 1 : 4, qualities 4 : 1, no third.
     const SyntheticProbe nearProbe({0, 1, 0}, 32, 0.2f, 1.0f, 16, 10.0f), farProbe({0, 2, 0}, 32, 0.8f, 1.0f, 16, 10.0f);
@@ -88,7 +94,7 @@ TEST(ProjectionBlend, BestTwoBlendByQualityAndUncoveredIsReported) {
 // weights keep the projected AO continuous. The hard best-one choice of the thesis jumps by the full
 // AO difference there, which this test would catch.
 TEST(ProjectionBlend, ContinuousWhenProbesSwapRank) {
-    const ProjectSettings s = resolveProjectSettings({}, 16);
+    const ProjectSettings s = resolveProjectSettings({});
     const SyntheticProbe a({-2, 1.5f, 0}, 64, 0.2f, 1.0f, 16, 100.0f), b({0, 1.5f, 0}, 64, 0.9f, 1.0f, 16, 100.0f),
         c({2, 1.5f, 0}, 64, 0.5f, 1.0f, 16, 100.0f);
     const DecodedProbe probes[] = {a.view, b.view, c.view};

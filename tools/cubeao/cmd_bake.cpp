@@ -1,11 +1,11 @@
-// cubeao bake SCENE --probes probes.json --out DIR: AO of every probe's cube map (DESIGN.md §4 "Bake").
-// Until the .cubeao cache lands, --out is a directory: bake.json plus probe_NNNN_{ao,confidence,
-// distance}.exr per probe (bake/bake_images.h), each written atomically as soon as the probe is done.
+// cubeao bake SCENE --probes probes.json --out CACHE.cubeao: AO of every probe's cube map (DESIGN.md
+// §4 "Bake"), compressed on the device that baked it (BC5 AO + confidence, a distance cube) and
+// appended to the cache in batches (bake/bake_cache.h): an interrupted bake keeps what it appended,
+// and running it again with the same parameters bakes only the probes still missing.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
 
@@ -13,6 +13,7 @@
 
 #include "commands.h"
 #include "cubeao/bake/bake.h"
+#include "cubeao/bake/bake_cache.h"
 #include "cubeao/bake/bake_images.h"
 #include "cubeao/bake/gpu_bake.h"
 #include "cubeao/bake/probe_set.h"
@@ -28,8 +29,8 @@ namespace fs = std::filesystem;
 
 struct BakeArgs {
     std::string scene, probes, out, dump, estimator = "traced", device = "gpu", falloff = "none", shard,
-                                          gbuffer = "layered";
-    int res = 0, spp = 0, directions = 0, steps = 0, verifySpp = 0;
+                                          gbuffer = "layered", depthFormat = "r16unorm";
+    int res = 0, spp = 0, directions = 0, steps = 0, verifySpp = 0, depthRes = 0;
     float radius = 0.0f, hybridThreshold = 0.0f;
     std::uint32_t seed = 0;
     bool verify = false, json = false;
@@ -65,6 +66,12 @@ BakeSettings settingsFrom(const BakeArgs& a, const Scene& scene) {
     s.directions = a.directions;
     s.steps = a.steps;
     s.hybridThreshold = a.hybridThreshold;
+    s.depthRes = a.depthRes;
+    s.depthFormat = a.depthFormat == "r16unorm"   ? DepthFormat::R16Unorm
+                    : a.depthFormat == "r16float" ? DepthFormat::R16Float
+                    : a.depthFormat == "r32float"
+                        ? DepthFormat::R32Float
+                        : throw UsageError("--depth-format \"" + a.depthFormat + "\": expected r16unorm, r16float or r32float");
     if (a.radius < 0.0f) throw UsageError("--radius must be positive");
     return resolveBakeSettings(s, scene.defaultRadius());
 }
@@ -79,13 +86,149 @@ nlohmann::json settingsJson(const BakeSettings& s) {
             {"seed", s.ao.seed},
             {"directions", s.directions},
             {"steps", s.steps},
-            {"hybrid_threshold", s.hybridThreshold}};
+            {"hybrid_threshold", s.hybridThreshold},
+            {"depth_res", s.depthRes},
+            {"depth_format", depthFormatName(s.depthFormat)}};
 }
 
 double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
     return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+// Per-run sums and medians for the JSON report.
+struct BakeTotals {
+    std::vector<double> total, gbuffer, ao, encode, error, readback;
+    double verifySum = 0.0, verifyNoise = 0.0, rayMs = 0.0, squaredError = 0.0;
+    std::uint64_t verifyTexels = 0, traced = 0, surface = 0, rays = 0, fetches = 0;
+    nlohmann::json perProbe = nlohmann::json::array();
+
+    void add(const BakedProbe& p, double ms, nlohmann::json entry) {
+        total.push_back(ms);
+        gbuffer.push_back(p.timings.gbufferMs);
+        ao.push_back(p.timings.aoMs);
+        encode.push_back(p.timings.encodeMs);
+        error.push_back(p.timings.errorMs);
+        readback.push_back(p.timings.readbackMs);
+        if (p.rays) rayMs += p.timings.aoMs;
+        traced += p.tracedTexels;
+        surface += p.encoded.surfaceTexels;
+        rays += p.rays;
+        fetches += p.fetches;
+        squaredError += p.encoded.aoSquaredError;
+        perProbe.push_back(std::move(entry));
+    }
+    double perTexel(double v) const { return surface ? v / double(surface) : 0.0; }
+};
+
+// The devices a bake needs. The GL context must outlive the baker (it owns GL objects): declared
+// first, destroyed last.
+struct Bakers {
+    std::optional<gl::HeadlessContext> context;
+    std::unique_ptr<GpuBaker> gpu;
+    std::unique_ptr<EmbreeScene> embree;
+
+    Bakers(const Scene& scene, const BakeSettings& settings, GBufferMode mode, BakeReadback readback, bool verify) {
+        if (settings.device == BakeDevice::Gpu) {
+            std::string whyNot;
+            context = gl::HeadlessContext::tryCreate(&whyNot);
+            if (!context) throw Error("--device gpu: no OpenGL 4.5 context (" + whyNot + "); use --device cpu");
+            gpu = std::make_unique<GpuBaker>(scene, settings);
+            gpu->setGBufferMode(mode);
+            gpu->setReadback(readback);
+        }
+        if (settings.device == BakeDevice::Cpu || verify) embree = std::make_unique<EmbreeScene>(scene);
+    }
+    BakedProbe bake(const glm::vec3& position, std::uint32_t index, const BakeSettings& settings) const {
+        return gpu ? gpu->bake(position, index) : bakeProbeCpu(*embree, position, index, settings);
+    }
+};
+
+// Bakes probes `todo` into the cache; `verifySettings` is the Embree twin's (with --verify).
+BakeTotals bakeProbes(const BakeArgs& a, const Bakers& bakers, const std::vector<ProbeSpec>& probes,
+                      const std::vector<std::size_t>& todo, const BakeSettings& settings,
+                      const BakeSettings& verifySettings, BakeCacheWriter& cache) {
+    BakeTotals t;
+    Progress progress("bake", todo.size());
+    for (const std::size_t i : todo) {
+        const auto index = std::uint32_t(i);
+        const auto start = std::chrono::steady_clock::now();
+        BakedProbe probe = bakers.bake(probes[i].position, index, settings);
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        if (!a.dump.empty()) dumpProbe(a.dump, index, probe);
+        nlohmann::json entry = {{"index", i},
+                                {"pos", {probes[i].position.x, probes[i].position.y, probes[i].position.z}},
+                                {"ms", ms},
+                                {"gbuffer_ms", probe.timings.gbufferMs},
+                                {"ao_ms", probe.timings.aoMs},
+                                {"encode_ms", probe.timings.encodeMs},
+                                {"error_ms", probe.timings.errorMs},
+                                {"readback_ms", probe.timings.readbackMs},
+                                {"surface_texels", probe.encoded.surfaceTexels},
+                                {"traced_texels", probe.tracedTexels},
+                                {"rays", probe.rays},
+                                {"ao_psnr", aoPsnr(probe.encoded.aoSquaredError, probe.encoded.surfaceTexels)}};
+        if (a.verify) {
+            const VerifyResult v = verifyProbe(*bakers.embree, probe, index, verifySettings);
+            entry["verify_mae"] = v.mae;
+            entry["verify_noise"] = v.noise;
+            t.verifySum += v.mae * double(v.texels);
+            t.verifyNoise += v.noise * double(v.texels);
+            t.verifyTexels += v.texels;
+        }
+        t.add(probe, ms, std::move(entry));
+        EncodedProbe& e = probe.encoded;
+        cache.add({index, probes[i].position, e.maxDistance, std::move(e.aoConfidence), std::move(e.depth)});
+        progress.advance();
+    }
+    return t;
+}
+
+// The JSON a bake prints (and its one-line summary), from what it baked and what the cache now holds.
+nlohmann::json report(const BakeArgs& a, const Scene& scene, const BakeSettings& settings,
+                      const BakeSettings& verifySettings, const Shard& shard, const BakeTotals& t,
+                      const BakeCacheWriter& cache, std::size_t probesTotal, std::size_t skipped,
+                      const std::string& renderer) {
+    const CacheReader written(a.out);
+    const std::size_t baked = t.total.size();
+    nlohmann::json result = {{"scene", scene.source},
+                             {"scene_hash", hashToString(scene.hash)},
+                             {"probes", baked},
+                             {"probes_skipped", skipped},  // already in the cache
+                             {"probes_total", probesTotal},
+                             {"probes_in_cache", written.probeCount()},
+                             {"shard", {shard.index, shard.count}},
+                             {"settings", settingsJson(settings)},
+                             {"ms_per_probe", median(t.total)},
+                             {"timings_ms", {{"gbuffer", median(t.gbuffer)}, {"ao", median(t.ao)}, {"encode", median(t.encode)},
+                                             {"error", median(t.error)}, {"readback", median(t.readback)},
+                                             {"write_total", cache.writeMs()}}},
+                             {"ao_psnr", aoPsnr(t.squaredError, t.surface)},
+                             {"bytes_per_texel", written.bytesPerTexel()},
+                             {"file_bytes", written.fileSize()},
+                             {"appends", cache.appends()},
+                             {"traced_fraction", t.perTexel(double(t.traced))},
+                             {"rays", t.rays},
+                             {"rays_per_s", t.rayMs > 0.0 ? double(t.rays) / (t.rayMs * 1e-3) : 0.0},
+                             {"fetches_per_texel", t.perTexel(double(t.fetches))},
+                             {"rays_per_texel", t.perTexel(double(t.rays))},
+                             {"per_probe", t.perProbe},
+                             {"out", a.out}};
+    if (!renderer.empty()) result["renderer"] = renderer;
+    if (a.verify) {
+        result["verify_mae"] = t.verifyTexels ? t.verifySum / double(t.verifyTexels) : 0.0;
+        result["verify_noise"] = t.verifyTexels ? t.verifyNoise / double(t.verifyTexels) : 0.0;
+        result["verify_spp"] = verifySettings.ao.spp;
+    }
+    if (!a.dump.empty()) result["dump"] = a.dump;
+    std::printf("bake: %zu probes -> %s (%zu skipped: already there; %zu in the cache), %.1f ms per probe (%s, %s), "
+                "AO PSNR %.1f dB, %.4f bytes/texel%s\n",
+                baked, a.out.c_str(), skipped, written.probeCount(), median(t.total),
+                estimatorName(settings.estimator), bakeDeviceName(settings.device), result["ao_psnr"].get<double>(),
+                written.bytesPerTexel(),
+                a.verify ? (", verify_mae " + std::to_string(result["verify_mae"].get<double>())).c_str() : "");
+    return result;
 }
 
 void run(const BakeArgs& a) {
@@ -97,110 +240,31 @@ void run(const BakeArgs& a) {
                                     : a.gbuffer == "six-pass"
                                         ? GBufferMode::SixPass
                                         : throw UsageError("--gbuffer \"" + a.gbuffer + "\": expected layered or six-pass");
-    fs::create_directories(a.out);
-    if (!a.dump.empty()) fs::create_directories(a.dump);
-
-    // The GL context must outlive the baker (it owns GL objects): declared first, destroyed last.
-    std::optional<gl::HeadlessContext> context;
-    std::unique_ptr<GpuBaker> gpu;
-    std::unique_ptr<EmbreeScene> embree;
-    if (settings.device == BakeDevice::Gpu) {
-        std::string whyNot;
-        context = gl::HeadlessContext::tryCreate(&whyNot);
-        if (!context) throw Error("--device gpu: no OpenGL 4.5 context (" + whyNot + "); use --device cpu");
-        gpu = std::make_unique<GpuBaker>(scene, settings);
-        gpu->setGBufferMode(gbufferMode);
-    }
-    if (settings.device == BakeDevice::Cpu || a.verify) embree = std::make_unique<EmbreeScene>(scene);
     if (a.verifySpp < 0) throw UsageError("--verify-spp must be positive");
     BakeSettings verifySettings = settings;  // default: the bake's own rays (traced: the same rays)
     if (a.verifySpp > 0) verifySettings.ao.spp = a.verifySpp;
 
-    spdlog::info("bake: {} ({} triangles), {} probes{}, {} on the {}, {}² texels per face, R = {}", scene.source,
-                 scene.triangleCount(), probes.size(),
+    BakeCacheWriter cache(a.out, cacheParamsFor(settings, scene.hash), probes);  // checks --out first
+    std::vector<std::size_t> todo;
+    std::size_t inShard = 0;
+    for (std::size_t i = shard.index; i < probes.size(); i += shard.count, ++inShard)
+        if (!cache.has(std::uint32_t(i))) todo.push_back(i);
+    if (!a.dump.empty()) fs::create_directories(a.dump);
+    spdlog::info("bake: {} ({} triangles), {} probes{}, {} already in {}, {} on the {}, {}² texels per face, R = {}",
+                 scene.source, scene.triangleCount(), probes.size(),
                  shard.count > 1 ? " (shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count) + ")" : "",
-                 estimatorName(settings.estimator), bakeDeviceName(settings.device), settings.res, settings.ao.radius);
+                 inShard - todo.size(), a.out, estimatorName(settings.estimator), bakeDeviceName(settings.device),
+                 settings.res, settings.ao.radius);
 
-    nlohmann::json perProbe = nlohmann::json::array();
-    std::vector<double> msTotal, msGBuffer, msAo, msReadback;
-    double verifySum = 0.0, verifyNoise = 0.0, rayMs = 0.0;
-    std::uint64_t verifyTexels = 0, traced = 0, surface = 0, rays = 0, fetches = 0;
-    std::size_t baked = 0;
-    Progress progress("bake", (probes.size() - shard.index + shard.count - 1) / shard.count);
-    for (std::size_t i = shard.index; i < probes.size(); i += shard.count) {
-        const auto index = std::uint32_t(i);
-        const auto start = std::chrono::steady_clock::now();
-        const BakedProbe probe = gpu ? gpu->bake(probes[i].position, index)
-                                     : bakeProbeCpu(*embree, probes[i].position, index, settings);
-        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        writeProbeImages(a.out, index, probe);
-        if (!a.dump.empty()) dumpProbe(a.dump, index, probe);
+    const BakeReadback readback = a.verify || !a.dump.empty() ? BakeReadback::All : BakeReadback::Encoded;
+    std::optional<Bakers> bakers;
+    if (!todo.empty()) bakers.emplace(scene, settings, gbufferMode, readback, a.verify);
+    const BakeTotals t = todo.empty() ? BakeTotals{}
+                                      : bakeProbes(a, *bakers, probes, todo, settings, verifySettings, cache);
+    cache.finish();
 
-        std::uint64_t surfaceTexels = 0;
-        for (const auto& t : probe.gbuffer.texels) surfaceTexels += CubeGBuffer::empty(t) ? 0 : 1;
-        nlohmann::json entry = {{"index", i},
-                                {"pos", {probes[i].position.x, probes[i].position.y, probes[i].position.z}},
-                                {"ms", ms},
-                                {"gbuffer_ms", probe.timings.gbufferMs},
-                                {"ao_ms", probe.timings.aoMs},
-                                {"readback_ms", probe.timings.readbackMs},
-                                {"surface_texels", surfaceTexels},
-                                {"traced_texels", probe.tracedTexels},
-                                {"rays", probe.rays}};
-        if (a.verify) {
-            const VerifyResult v = verifyProbe(*embree, probe, index, verifySettings);
-            entry["verify_mae"] = v.mae;
-            entry["verify_noise"] = v.noise;
-            verifySum += v.mae * double(v.texels);
-            verifyNoise += v.noise * double(v.texels);
-            verifyTexels += v.texels;
-        }
-        perProbe.push_back(entry);
-        msTotal.push_back(ms);
-        msGBuffer.push_back(probe.timings.gbufferMs);
-        msAo.push_back(probe.timings.aoMs);
-        msReadback.push_back(probe.timings.readbackMs);
-        if (probe.rays) rayMs += probe.timings.aoMs;
-        traced += probe.tracedTexels;
-        surface += surfaceTexels;
-        rays += probe.rays;
-        fetches += probe.fetches;
-        ++baked;
-        progress.advance();
-    }
-
-    nlohmann::json result = {{"scene", scene.source},
-                             {"scene_hash", hashToString(scene.hash)},
-                             {"probes", baked},
-                             {"probes_total", probes.size()},
-                             {"shard", {shard.index, shard.count}},
-                             {"settings", settingsJson(settings)},
-                             {"ms_per_probe", median(msTotal)},
-                             {"timings_ms", {{"gbuffer", median(msGBuffer)}, {"ao", median(msAo)}, {"readback", median(msReadback)}}},
-                             {"traced_fraction", surface ? double(traced) / double(surface) : 0.0},
-                             {"rays", rays},
-                             {"rays_per_s", rayMs > 0.0 ? double(rays) / (rayMs * 1e-3) : 0.0},
-                             {"fetches_per_texel", surface ? double(fetches) / double(surface) : 0.0},
-                             {"rays_per_texel", surface ? double(rays) / double(surface) : 0.0},
-                             {"per_probe", perProbe},
-                             {"out", a.out}};
-    if (settings.device == BakeDevice::Gpu) result["renderer"] = context->renderer();
-    if (a.verify) {
-        result["verify_mae"] = verifyTexels ? verifySum / double(verifyTexels) : 0.0;
-        result["verify_noise"] = verifyTexels ? verifyNoise / double(verifyTexels) : 0.0;
-        result["verify_spp"] = verifySettings.ao.spp;
-    }
-    if (!a.dump.empty()) result["dump"] = a.dump;
-    const fs::path manifest = fs::path(a.out) / "bake.json";
-    {
-        std::ofstream out(manifest.string() + ".tmp");
-        out << result.dump(1) << '\n';
-        if (!out) throw Error(manifest.string() + ": cannot write");
-    }
-    fs::rename(manifest.string() + ".tmp", manifest);
-    std::printf("bake: %zu probes -> %s, %.1f ms per probe (%s, %s)%s\n", baked, a.out.c_str(), median(msTotal),
-                estimatorName(settings.estimator), bakeDeviceName(settings.device),
-                a.verify ? (", verify_mae " + std::to_string(result["verify_mae"].get<double>())).c_str() : "");
+    const nlohmann::json result = report(a, scene, settings, verifySettings, shard, t, cache, probes.size(),
+                                         inShard - todo.size(), bakers && bakers->context ? bakers->context->renderer() : "");
     if (a.json) printJson(result);
 }
 
@@ -211,7 +275,7 @@ void addBake(CLI::App& app) {
     auto a = std::make_shared<BakeArgs>();
     cmd->add_option("scene", a->scene, "Model file or builtin:NAME")->required();
     cmd->add_option("--probes", a->probes, "probes.json ({\"version\":1,\"probes\":[{\"pos\":[x,y,z]}]})")->required();
-    cmd->add_option("--out", a->out, "Output directory (bake.json + per-probe EXR faces until the .cubeao cache lands)")
+    cmd->add_option("--out", a->out, "Probe cache (.cubeao) to write; an existing one baked alike is resumed")
         ->required();
     cmd->add_option("--res", a->res, "Face resolution in texels (default 512)");
     cmd->add_option("--estimator", a->estimator, "hsplit | gtao | traced | hybrid")->capture_default_str();
@@ -227,7 +291,9 @@ void addBake(CLI::App& app) {
     cmd->add_option("--shard", a->shard, "I/N: bake only the probes with index = I mod N");
     cmd->add_flag("--verify", a->verify, "Also trace the Embree twin at every texel and report verify_mae");
     cmd->add_option("--verify-spp", a->verifySpp, "Rays per texel of the --verify reference (default: --spp, the same rays)");
-    cmd->add_option("--dump", a->dump, "Directory for per-face EXRs and a cross-layout PNG per probe");
+    cmd->add_option("--dump", a->dump, "Directory for per-face EXRs and a cross-layout PNG per probe (uncompressed)");
+    cmd->add_option("--depth-res", a->depthRes, "Distance cube texels per side (default res/4)");
+    cmd->add_option("--depth-format", a->depthFormat, "r16unorm | r16float | r32float")->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
     cmd->callback([a] { run(*a); });
 }

@@ -44,19 +44,23 @@ std::vector<glm::vec3> probePositions(const std::string& scene, const std::strin
 }
 
 struct RunStats {
-    std::vector<double> total, gbuffer, ao, readback;
+    std::vector<double> total, gbuffer, ao, encode, error, readback, encodeShare;
     std::uint64_t rays = 0, fetches = 0, traced = 0, surface = 0;
-    double rayMs = 0.0;
+    double rayMs = 0.0, squaredError = 0.0;
 
     void add(const BakedProbe& p, double ms) {
         total.push_back(ms);
         gbuffer.push_back(p.timings.gbufferMs);
         ao.push_back(p.timings.aoMs);
+        encode.push_back(p.timings.encodeMs);
+        error.push_back(p.timings.errorMs);
         readback.push_back(p.timings.readbackMs);
+        if (p.timings.aoMs > 0.0) encodeShare.push_back(p.timings.encodeMs / p.timings.aoMs);
+        squaredError += p.encoded.aoSquaredError;
         rays += p.rays;
         fetches += p.fetches;
         traced += p.tracedTexels;
-        for (const auto& t : p.gbuffer.texels) surface += CubeGBuffer::empty(t) ? 0 : 1;
+        surface += p.encoded.surfaceTexels;
         if (p.rays) rayMs += p.timings.aoMs;
     }
     nlohmann::json json() const {
@@ -64,7 +68,11 @@ struct RunStats {
         return {{"ms_per_probe", median(total)},
                 {"gbuffer_ms", median(gbuffer)},
                 {"ao_ms", median(ao)},
+                {"encode_ms", median(encode)},  // BC5 + distance cube: what the cache stores
+                {"encode_to_ao", median(encodeShare)},
+                {"error_ms", median(error)},    // BC5 AO error measurement
                 {"readback_ms", median(readback)},
+                {"ao_psnr", aoPsnr(squaredError, surface)},
                 {"rays_per_s", rayMs > 0.0 ? double(rays) / (rayMs * 1e-3) : 0.0},
                 {"rays_per_texel", double(rays) / s},
                 {"fetches_per_texel", double(fetches) / s},
@@ -117,9 +125,11 @@ nlohmann::json benchScene(const BenchArgs& a, const std::string& spec, const std
             run["device"] = device;
             run["estimator"] = estimator;
             run["setup_ms"] = setupMs;  // GPU: upload, BVH build, shader compilation
-            std::printf("  %-4s %-7s %9.1f ms/probe  (G-buffer %8.1f, AO %9.1f, read-back %6.1f)  %7.2f Mrays/s  %5.1f fetches/texel  traced %5.1f%%\n",
+            std::printf("  %-4s %-7s %9.1f ms/probe  (G-buffer %8.1f, AO %9.1f, encode %6.1f = %5.1f%% of AO, read-back %6.1f)  "
+                        "%7.2f Mrays/s  %5.1f fetches/texel  traced %5.1f%%\n",
                         device.c_str(), estimator.c_str(), run["ms_per_probe"].get<double>(), run["gbuffer_ms"].get<double>(),
-                        run["ao_ms"].get<double>(), run["readback_ms"].get<double>(), run["rays_per_s"].get<double>() * 1e-6,
+                        run["ao_ms"].get<double>(), run["encode_ms"].get<double>(), 100.0 * run["encode_to_ao"].get<double>(),
+                        run["readback_ms"].get<double>(), run["rays_per_s"].get<double>() * 1e-6,
                         run["fetches_per_texel"].get<double>(), 100.0 * run["traced_fraction"].get<double>());
             std::fflush(stdout);
             runs.push_back(run);
@@ -169,6 +179,8 @@ void addBench(CLI::App& app) {
     cmd->add_option("--probes", a->probes, "Probes per scene")->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
     cmd->callback([a] { runBake(*a); });
+    addBenchDepth(*bench);
+    addBenchCache(*bench);
 }
 
 }  // namespace cubeao::cli

@@ -23,13 +23,7 @@ void run(const PlaceArgs& a) {
     if (a.method != "path") throw UsageError("--method \"" + a.method + "\": expected path, grid, voting or coverage");
     if (a.budget < 1) throw UsageError("--budget must be at least 1");
     const CameraPath path = resolveCameraPath(a.camera, a.scene);
-    std::vector<ProbeSpec> probes;
-    const std::size_t n = std::min<std::size_t>(std::size_t(a.budget), path.frames.size());
-    for (std::size_t i = 0; i < n; ++i) {
-        // Frame centres of n equal parts of the path: first and last probes half a part in.
-        const std::size_t frame = (2 * i + 1) * path.frames.size() / (2 * n);
-        probes.push_back({path.frames[frame].eye});
-    }
+    const std::vector<ProbeSpec> probes = probesAlongPath(path, std::size_t(a.budget));
     writeProbeSet(a.out, probes);
     std::printf("place: %zu probes along the camera path -> %s\n", probes.size(), a.out.c_str());
     if (a.json) printJson({{"probes", probes.size()}, {"method", a.method}, {"out", a.out}});

@@ -13,8 +13,12 @@ void addReference(CLI::App& app);
 void addCompare(CLI::App& app);
 void addPlace(CLI::App& app);
 void addBake(CLI::App& app);
+void addMerge(CLI::App& app);
 void addBench(CLI::App& app);
 void addRender(CLI::App& app);
+// `bench` subcommands in files of their own, registered by addBench on the `bench` subcommand.
+void addBenchDepth(CLI::App& bench);
+void addBenchCache(CLI::App& bench);
 
 // Prints `j` compactly on one line to stdout (the last line a --json command prints).
 void printJson(const nlohmann::json& j);

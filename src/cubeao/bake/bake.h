@@ -4,6 +4,8 @@
 // and what a CPU-only cluster node runs.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -14,14 +16,37 @@
 namespace cubeao {
 
 struct BakeTimings {
-    double gbufferMs = 0.0, aoMs = 0.0, readbackMs = 0.0;
+    double gbufferMs = 0.0, aoMs = 0.0;
+    double encodeMs = 0.0;    // BC5 of (AO, confidence) and the distance cube: what the cache stores
+    double errorMs = 0.0;     // measuring what BC5 cost the AO (EncodedProbe::aoSquaredError)
+    double readbackMs = 0.0;  // GPU → CPU copies
 };
 
+// A probe as the cache stores it (cache_file.h ProbeRecord, less position and index), plus what the
+// compression cost.
+struct EncodedProbe {
+    std::vector<std::uint8_t> aoConfidence;  // BC5 cube (cache/bc4.h layout)
+    std::vector<std::uint8_t> depth;         // distance cube at settings.depthRes (cache/depth_cube.h)
+    float maxDistance = 0.0f;                // its r16unorm scale
+    double aoSquaredError = 0.0;             // Σ (decoded BC5 AO − AO)² over the surface texels
+    std::uint64_t surfaceTexels = 0;         // texels that show a surface (G-buffer distance > 0)
+};
+
+// PSNR in dB (peak 1) of an AO error: 10·log10(texels / squaredError), capped at 100 dB for an exact
+// encoding (and 100 for no texels) so JSON never needs infinity.
+inline double aoPsnr(double squaredError, std::uint64_t texels) {
+    if (texels == 0) return 100.0;
+    return std::min(100.0, 10.0 * std::log10(double(texels) / std::max(squaredError, 1e-300)));
+}
+
 struct BakedProbe {
+    // Uncompressed results: always on the CPU path; on the GPU path only with BakeReadback::All
+    // (gpu_bake.h), otherwise empty (gbuffer.res 0): a production bake keeps them on the GPU.
     CubeGBuffer gbuffer;            // distances and normals (the surface points the AO belongs to)
     std::vector<float> ao;          // per texel, cube::texelIndex order; empty texels: 1
     std::vector<float> confidence;  // horizon estimators' confidence; 1 for `traced` and empty texels
                                     // (hybrid keeps the hsplit confidence of the texels it traced)
+    EncodedProbe encoded;           // always
     std::uint64_t tracedTexels = 0; // texels whose AO came from rays (all of them for traced)
     std::uint64_t rays = 0;         // AO rays cast
     std::uint64_t fetches = 0;      // G-buffer lookups by the horizon march
@@ -32,9 +57,17 @@ struct BakedProbe {
 // turned to face the probe, distance along the centre ray; no hit: (0, 0, 0, 0).
 CubeGBuffer renderGBufferCpu(const EmbreeScene& scene, const glm::vec3& probe, int res);
 
-// The whole probe on the CPU with settings.estimator (settings resolved: resolveBakeSettings).
+// The whole probe on the CPU with settings.estimator (settings resolved: resolveBakeSettings),
+// encoded as by encodeProbeCpu.
 BakedProbe bakeProbeCpu(const EmbreeScene& scene, const glm::vec3& probe, std::uint32_t probeIndex,
                         const BakeSettings& settings);
+
+// What the cache stores of a probe, on the CPU: bc::encodeBc5Cube of (ao, confidence), the distance
+// cube of g at settings.depthRes / depthFormat (depth::downsample with depth::kFilter, encode), and
+// the AO error of the BC5 blocks over g's surface texels. The GPU bake produces the same BC5 bytes
+// and distance texels within one r16unorm code (tests/test_bake_cache.cpp).
+EncodedProbe encodeProbeCpu(const CubeGBuffer& g, const std::vector<float>& ao, const std::vector<float>& confidence,
+                            const BakeSettings& settings);
 
 // AO of every texel of `g` by rays from its surface point: ambientOcclusion() with the texel's
 // texelKey. `only`, when not empty, selects texels (nonzero = trace); others keep `ao`'s value.

@@ -1,6 +1,7 @@
-// A baked probe as images: for people looking at a bake, and the interim output of `bake --out`
-// until the cache format exists. Float data goes to single-channel EXR (lossless: a write/read round
-// trip is bit exact), previews to PNG (image_io.h conventions).
+// A baked probe as images, from its uncompressed data: for people looking at a bake (`bake --dump`)
+// and for tools that want float faces (the cache, docs/FORMAT.md, stores them compressed). Float data
+// goes to single-channel EXR (lossless: a write/read round trip is bit exact), previews to PNG
+// (image_io.h conventions).
 //
 // Stacked images, writeProbeImages: `probe_NNNN_ao.exr`, `probe_NNNN_confidence.exr`,
 // `probe_NNNN_distance.exr` (NNNN = probe index, 4+ digits), res wide and 6·res tall. Face f (cube.h

@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "cubeao/cache/depth_cube.h"
 #include "cubeao/core/error.h"
 #include "cubeao/reference/sampling.h"
 
@@ -40,9 +41,16 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius) {
     if (s.directions == 0) s.directions = 16;
     if (s.steps == 0) s.steps = 16;
     if (s.hybridThreshold == 0.0f) s.hybridThreshold = 0.95f;
+    if (s.depthRes == 0) s.depthRes = depth::depthResFor(s.res);
+    if (s.depthFormat == DepthFormat{}) s.depthFormat = depth::kDefaultFormat;
 
     std::vector<std::string> problems;
-    if (s.res < 4 || s.res > 4096) problems.push_back("--res " + std::to_string(s.res) + ": expected 4..4096 texels");
+    if (s.res < 4 || s.res > 4096 || s.res % 4 != 0)
+        problems.push_back("--res " + std::to_string(s.res) + ": expected a multiple of 4 in 4..4096 (BC5 blocks are 4x4)");
+    if (s.depthRes < 1 || s.depthRes > s.res)
+        problems.push_back("--depth-res " + std::to_string(s.depthRes) + ": expected 1..res (" + std::to_string(s.res) + ")");
+    if (depthBytesPerTexel(s.depthFormat) == 0)
+        problems.push_back("depth format " + std::to_string(int(s.depthFormat)) + ": expected r16unorm, r16float or r32float");
     if (s.ao.spp < 1 || s.ao.spp > 65536) problems.push_back("--spp " + std::to_string(s.ao.spp) + ": expected 1..65536");
     if (!(s.ao.radius > 0.0f)) problems.push_back("--radius must be positive");
     if (s.directions < 2 || s.directions > 64 || s.directions % 2 != 0)
@@ -56,6 +64,24 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius) {
         throw UsageError(message);
     }
     return s;
+}
+
+CacheParams cacheParamsFor(const BakeSettings& s, std::uint64_t sceneHash) {
+    const bool horizon = s.estimator != Estimator::Traced, rays = s.estimator == Estimator::Traced || s.estimator == Estimator::Hybrid;
+    CacheParams p;
+    p.sceneHash = sceneHash;
+    p.res = std::uint32_t(s.res);
+    p.depthRes = std::uint32_t(s.depthRes);
+    p.depthFormat = s.depthFormat;
+    p.estimator = std::uint8_t(s.estimator);
+    p.falloff = std::uint8_t(s.ao.falloff);
+    p.spp = rays ? std::uint32_t(s.ao.spp) : 0;
+    p.radius = s.ao.radius;
+    p.seed = s.ao.seed;
+    p.directions = horizon ? std::uint32_t(s.directions) : 0;
+    p.steps = horizon ? std::uint32_t(s.steps) : 0;
+    p.hybridThreshold = s.estimator == Estimator::Hybrid ? s.hybridThreshold : 0.0f;
+    return p;
 }
 
 std::uint32_t texelKey(int face, int i, int j, int res, std::uint32_t probeIndex, std::uint32_t seed) {

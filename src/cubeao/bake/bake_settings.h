@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "cubeao/cache/cache_file.h"
 #include "cubeao/reference/ao_reference.h"
 
 namespace cubeao {
@@ -23,18 +24,26 @@ BakeDevice parseBakeDevice(const std::string& name);
 const char* bakeDeviceName(BakeDevice d);
 
 struct BakeSettings {
-    int res = 0;                      // face resolution, texels per side; 0 → 512 (thesis: 256² too coarse)
+    int res = 0;                      // face resolution, texels per side; 0 → 512 (thesis: 256² too coarse);
+                                      // a multiple of 4 (BC5 blocks)
     Estimator estimator = Estimator::Traced;
     AoSettings ao;                    // radius (0 → scene default), spp for traced texels (0 → 64), falloff, seed
     int directions = 0;               // horizon directions N_d; 0 → 16 (thesis ~15); even (gtao pairs them)
     int steps = 0;                    // march steps N_s per direction; 0 → 16
     float hybridThreshold = 0.0f;     // confidence below which hybrid traces; 0 → 0.95
     BakeDevice device = BakeDevice::Gpu;
+    int depthRes = 0;                 // distance cube texels per side, 1..res; 0 → res/4 (depth_cube.h)
+    DepthFormat depthFormat{};        // 0 → r16unorm (depth_cube.h: the measured choice)
 };
 
 // Fills the zero fields with defaults (radius from `sceneDefaultRadius`) and checks ranges, listing
 // every problem in one UsageError.
 BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius);
+
+// The cache header's bake parameters for resolved settings `s` and the scene's hash. Fields the
+// estimator does not use are 0 (spp for hsplit and gtao; directions, steps for traced; the hybrid
+// threshold except for hybrid), so a cache is not refused for a setting that made no difference.
+CacheParams cacheParamsFor(const BakeSettings& s, std::uint64_t sceneHash);
 
 // Key of the per-texel rotation of sample sets: the same rays on every device.
 std::uint32_t texelKey(int face, int i, int j, int res, std::uint32_t probeIndex, std::uint32_t seed);

@@ -13,6 +13,8 @@
 #include <limits>
 
 #include "cubeao/bake/horizon.h"
+#include "cubeao/cache/bc4.h"
+#include "cubeao/cache/depth_cube.h"
 #include "cubeao/core/error.h"
 
 namespace cubeao {
@@ -134,7 +136,36 @@ BakedProbe bakeProbeCpu(const EmbreeScene& scene, const glm::vec3& probe, std::u
         }
     }
     out.timings.aoMs = millisecondsSince(aoStart);
+
+    const Clock::time_point encodeStart = Clock::now();
+    out.encoded = encodeProbeCpu(g, out.ao, out.confidence, settings);
+    out.timings.encodeMs = millisecondsSince(encodeStart);  // includes the error measurement
     return out;
+}
+
+EncodedProbe encodeProbeCpu(const CubeGBuffer& g, const std::vector<float>& ao, const std::vector<float>& confidence,
+                            const BakeSettings& settings) {
+    if (ao.size() != g.texelCount() || confidence.size() != g.texelCount())
+        throw Error("encodeProbeCpu: " + std::to_string(ao.size()) + " AO and " + std::to_string(confidence.size()) +
+                    " confidence values for a cube of " + std::to_string(g.texelCount()) + " texels");
+    EncodedProbe e;
+    std::vector<glm::vec2> aoConfidence(g.texelCount());
+    for (std::size_t t = 0; t < aoConfidence.size(); ++t) aoConfidence[t] = {ao[t], confidence[t]};
+    e.aoConfidence = bc::encodeBc5Cube(aoConfidence, g.res);
+
+    const std::vector<float> coarse = depth::downsample(g.texels, g.res, settings.depthRes, depth::kFilter);
+    e.maxDistance = depth::maxDistance(coarse);
+    e.depth = depth::encode(coarse, settings.depthFormat, e.maxDistance);
+
+    std::vector<glm::vec2> decoded;
+    bc::decodeBc5Cube(e.aoConfidence.data(), e.aoConfidence.size(), g.res, decoded);
+    for (std::size_t t = 0; t < decoded.size(); ++t) {
+        if (CubeGBuffer::empty(g.texels[t])) continue;
+        const double d = double(decoded[t].x) - double(ao[t]);
+        e.aoSquaredError += d * d;
+        ++e.surfaceTexels;
+    }
+    return e;
 }
 
 VerifyResult verifyProbe(const EmbreeScene& scene, const BakedProbe& probe, std::uint32_t probeIndex,

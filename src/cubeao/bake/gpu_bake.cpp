@@ -9,7 +9,9 @@
 
 #include "cubeao/bake/bvh.h"
 #include "cubeao/bake/cube.h"
+#include "cubeao/bake/gpu_bc5.h"
 #include "cubeao/bake/gpu_bvh.h"
+#include "cubeao/bake/gpu_depth.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/shader.h"
@@ -32,6 +34,7 @@ struct GpuBaker::Impl {
     std::size_t triangles = 0;
     float zNear = 0.0f, surfaceEpsilon = 0.0f;
     GBufferMode mode = GBufferMode::Layered;
+    BakeReadback readback = BakeReadback::Encoded;
 
     gl::Buffer positions, indices, triangleNormals, aoBuffer, texelList, fetchCount;
     gl::VertexArray vao;
@@ -39,11 +42,14 @@ struct GpuBaker::Impl {
     gl::Framebuffer framebuffer;
     gl::Program layered, sixPass, horizon, traced, tracedList, select;
     std::unique_ptr<GpuBvh> bvh;
+    std::unique_ptr<GpuBc5Encoder> bc5;
+    std::unique_ptr<GpuDepthEncoder> depthCube;
 
     void renderGBuffer(const glm::vec3& probe, int res);
     void horizonPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
     void tracedPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
     std::uint32_t hybridPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
+    void readAll(BakedProbe& out, const glm::vec3& probe, int res) const;
     std::uint64_t fetches() const {
         std::uint32_t words[2] = {0u, 0u};
         glGetNamedBufferSubData(fetchCount.id(), 0, sizeof words, words);
@@ -107,6 +113,8 @@ GpuBaker::GpuBaker(const Scene& scene, const BakeSettings& settings) : impl_(std
         m.bvh = std::make_unique<GpuBvh>(buildBvh(scene));
         m.traced = gl::compileComputeProgram("bake/ao_traced.comp");
     }
+    m.bc5 = std::make_unique<GpuBc5Encoder>(res);
+    m.depthCube = std::make_unique<GpuDepthEncoder>(res, settings.depthRes, settings.depthFormat);
     if (settings.estimator == Estimator::Hybrid) {
         m.tracedList = gl::compileComputeProgram("bake/ao_traced.comp", {{"TEXEL_LIST", "1"}});
         m.select = gl::compileComputeProgram("bake/hybrid_select.comp");
@@ -119,6 +127,7 @@ GpuBaker::GpuBaker(const Scene& scene, const BakeSettings& settings) : impl_(std
 GpuBaker::~GpuBaker() = default;
 
 void GpuBaker::setGBufferMode(GBufferMode mode) { impl_->mode = mode; }
+void GpuBaker::setReadback(BakeReadback readback) { impl_->readback = readback; }
 
 
 void GpuBaker::Impl::renderGBuffer(const glm::vec3& probe, int res) {
@@ -239,6 +248,23 @@ std::uint32_t GpuBaker::Impl::hybridPass(const glm::vec3& probe, std::uint32_t p
     return done.w;
 }
 
+// The uncompressed G-buffer, AO and confidence (BakeReadback::All).
+void GpuBaker::Impl::readAll(BakedProbe& out, const glm::vec3& probe, int res) const {
+    const std::size_t texels = std::size_t(cube::kFaces) * std::size_t(res) * std::size_t(res);
+    out.gbuffer.res = res;
+    out.gbuffer.probe = probe;
+    out.gbuffer.texels.resize(texels);
+    glGetTextureImage(gbuffer.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(texels * sizeof(glm::vec4)), out.gbuffer.texels.data());
+    std::vector<glm::vec2> aoConfidence(texels);
+    glGetNamedBufferSubData(aoBuffer.id(), 0, GLsizeiptr(texels * sizeof(glm::vec2)), aoConfidence.data());
+    out.ao.resize(texels);
+    out.confidence.resize(texels);
+    for (std::size_t i = 0; i < texels; ++i) {
+        out.ao[i] = aoConfidence[i].x;
+        out.confidence[i] = aoConfidence[i].y;
+    }
+}
+
 BakedProbe GpuBaker::bake(const glm::vec3& probe, std::uint32_t probeIndex) {
     Impl& m = *impl_;
     const BakeSettings& s = settings_;
@@ -256,26 +282,28 @@ BakedProbe GpuBaker::bake(const glm::vec3& probe, std::uint32_t probeIndex) {
                            }
                        }).ms();
 
-    const auto start = std::chrono::steady_clock::now();
-    const std::size_t texels = std::size_t(cube::kFaces) * std::size_t(s.res) * std::size_t(s.res);
-    out.gbuffer.res = s.res;
-    out.gbuffer.probe = probe;
-    out.gbuffer.texels.resize(texels);
-    glGetTextureImage(m.gbuffer.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(texels * sizeof(glm::vec4)), out.gbuffer.texels.data());
-    std::vector<glm::vec2> aoConfidence(texels);
-    glGetNamedBufferSubData(m.aoBuffer.id(), 0, GLsizeiptr(texels * sizeof(glm::vec2)), aoConfidence.data());
-    out.timings.readbackMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    out.timings.encodeMs = gl::timeGpu([&] {
+                               m.bc5->encode(m.aoBuffer.id());
+                               m.depthCube->encode(m.gbuffer.id());
+                           }).ms();
+    const auto clock = std::chrono::steady_clock::now;
+    const auto msSince = [&](auto start) { return std::chrono::duration<double, std::milli>(clock() - start).count(); };
+    const auto errorStart = clock();
+    const GpuBc5Encoder::AoError error = m.bc5->aoError(m.aoBuffer.id(), m.gbuffer.id());
+    out.encoded.aoSquaredError = error.squaredError;
+    out.encoded.surfaceTexels = error.texels;
+    out.timings.errorMs = msSince(errorStart);
 
-    out.ao.resize(texels);
-    out.confidence.resize(texels);
-    std::uint64_t surfaceTexels = 0;
-    for (std::size_t i = 0; i < texels; ++i) {
-        out.ao[i] = aoConfidence[i].x;
-        out.confidence[i] = aoConfidence[i].y;
-        surfaceTexels += CubeGBuffer::empty(out.gbuffer.texels[i]) ? 0 : 1;
-    }
+    const auto readbackStart = clock();
+    out.encoded.aoConfidence = m.bc5->read();
+    EncodedDepth depth = m.depthCube->read();
+    out.encoded.depth = std::move(depth.bytes);
+    out.encoded.maxDistance = depth.maxDistance;
+    if (m.readback == BakeReadback::All) m.readAll(out, probe, s.res);
+    out.timings.readbackMs = msSince(readbackStart);
+
     if (needsHorizon(s.estimator)) out.fetches = m.fetches();
-    if (s.estimator == Estimator::Traced) out.tracedTexels = surfaceTexels;
+    if (s.estimator == Estimator::Traced) out.tracedTexels = out.encoded.surfaceTexels;
     if (s.estimator == Estimator::Hybrid) out.tracedTexels = traced;
     out.rays = out.tracedTexels * std::uint64_t(s.ao.spp);
     return out;

@@ -1,6 +1,7 @@
 // The GPU bake path (DESIGN.md §4 "Bake"): the scene rasterised into a cube G-buffer (a 6-layer
 // RGBA32F array texture: normal facing the probe, distance), then one compute pass per estimator
-// writing (ao, confidence) per texel. Twin: the CPU path in bake.h; tests/test_bake_gl.cpp checks
+// writing (ao, confidence) per texel, then the encoders (gpu_bc5.h, gpu_depth.h) that make what the
+// cache stores, so only compressed bytes need to come back to the CPU. Twin: the CPU path in bake.h; tests/test_bake_gl.cpp checks
 // that the two agree.
 //
 // A GpuBaker needs a current GL 4.5 context for its whole life (it owns GL objects).
@@ -21,6 +22,12 @@ enum class GBufferMode {
     SixPass,  // one draw per face
 };
 
+// What GpuBaker::bake copies back to the CPU.
+enum class BakeReadback {
+    Encoded,  // the cache's bytes only (BakedProbe::encoded): a production bake (DESIGN.md §4 "Storage")
+    All,      // also the G-buffer, AO and confidence (for --verify, --dump and tests)
+};
+
 class GpuBaker {
 public:
     // Uploads the mesh (and for traced/hybrid a BVH), compiles the programs. `settings` resolved.
@@ -30,8 +37,10 @@ public:
     GpuBaker& operator=(const GpuBaker&) = delete;
 
     void setGBufferMode(GBufferMode mode);
+    void setReadback(BakeReadback readback);  // default: Encoded
 
-    // G-buffer, AO, read-back of both; timings per stage (see BakedProbe::timings).
+    // G-buffer, AO, BC5 and distance cube encoding and the BC5 AO error on the GPU, then the
+    // read-back the readback mode asks for; timings per stage (see BakedProbe::timings).
     BakedProbe bake(const glm::vec3& probe, std::uint32_t probeIndex);
 
     // For tests: the horizon pass alone on a given G-buffer (uploaded), returning (ao, confidence)

@@ -8,7 +8,7 @@ namespace cubeao {
 namespace {
 
 // Binding points of shaders/bake/bc5_encode.comp: the input is where ao_horizon.comp writes.
-constexpr GLuint kAoConfidenceBinding = 1, kBlocksBinding = 3;
+constexpr GLuint kAoConfidenceBinding = 1, kBlocksBinding = 3, kPartialBinding = 8, kGBufferUnit = 0;
 constexpr GLuint kGroupSize = 8;  // local_size_x and local_size_y
 
 GLuint groups(int n) { return (GLuint(n) + kGroupSize - 1) / kGroupSize; }
@@ -19,9 +19,14 @@ GpuBc5Encoder::GpuBc5Encoder(int res)
     : res_(res),
       size_(bc::bc5Size(res)),  // checks res before any GL work
       program_(gl::compileComputeProgram("bake/bc5_encode.comp")),
-      blocks_(gl::Buffer::create()) {
+      errorProgram_(gl::compileComputeProgram("bake/bc5_error.comp")),
+      blocks_(gl::Buffer::create()),
+      partial_(gl::Buffer::create()) {
     glNamedBufferStorage(blocks_.id(), GLsizeiptr(size_), nullptr, 0);
-    glProgramUniform1i(program_.id(), glGetUniformLocation(program_.id(), "res"), res);
+    const GLuint tiles = groups(res / bc::kBlockSize);
+    glNamedBufferStorage(partial_.id(), GLsizeiptr(std::size_t(6) * tiles * tiles * sizeof(float) * 2), nullptr, 0);
+    for (const GLuint program : {program_.id(), errorProgram_.id()})
+        glProgramUniform1i(program, glGetUniformLocation(program, "res"), res);
 }
 
 void GpuBc5Encoder::encode(GLuint aoConfidenceBuffer) {
@@ -31,6 +36,25 @@ void GpuBc5Encoder::encode(GLuint aoConfidenceBuffer) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBlocksBinding, blocks_.id());
     glDispatchCompute(groups(2 * blocksPerSide), groups(blocksPerSide), 6);  // x: 2·bx + channel
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+}
+
+GpuBc5Encoder::AoError GpuBc5Encoder::aoError(GLuint aoConfidenceBuffer, GLuint gbufferTexture) const {
+    const GLuint tiles = groups(res_ / bc::kBlockSize);
+    glUseProgram(errorProgram_.id());
+    glBindTextureUnit(kGBufferUnit, gbufferTexture);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAoConfidenceBinding, aoConfidenceBuffer);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBlocksBinding, blocks_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPartialBinding, partial_.id());
+    glDispatchCompute(tiles, tiles, 6);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<float> partial(std::size_t(6) * tiles * tiles * 2);
+    glGetNamedBufferSubData(partial_.id(), 0, GLsizeiptr(partial.size() * sizeof(float)), partial.data());
+    AoError e;
+    for (std::size_t t = 0; t < partial.size(); t += 2) {  // tile sums are small: float is exact enough
+        e.squaredError += double(partial[t]);
+        e.texels += std::uint64_t(partial[t + 1]);  // ≤ 1024 per tile: exact in float
+    }
+    return e;
 }
 
 std::vector<std::uint8_t> GpuBc5Encoder::read() const {

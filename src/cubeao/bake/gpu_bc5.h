@@ -26,14 +26,23 @@ public:
     // The blocks of the last encode(), bc::bc5Size(res) bytes (waits for the GPU).
     std::vector<std::uint8_t> read() const;
 
+    // What the last encode() cost the AO (red) channel against aoConfidenceBuffer, over the texels
+    // whose distance in gbufferTexture (6-layer res² array, distance in w) is > 0, measured on the
+    // GPU (shaders/bake/bc5_error.comp) so the uncompressed AO never has to be read back. Waits.
+    struct AoError {
+        double squaredError = 0.0;  // Σ (decoded − AO)²
+        std::uint64_t texels = 0;   // surface texels summed over
+    };
+    AoError aoError(GLuint aoConfidenceBuffer, GLuint gbufferTexture) const;
+
     GLuint blocks() const { return blocks_.id(); }
     int res() const { return res_; }
 
 private:
     int res_ = 0;
     std::size_t size_ = 0;  // bytes of blocks_
-    gl::Program program_;
-    gl::Buffer blocks_;
+    gl::Program program_, errorProgram_;
+    gl::Buffer blocks_, partial_;  // partial_: (Σ error², texels) per 8×8 tile of blocks
 };
 
 }  // namespace cubeao

@@ -1,5 +1,6 @@
 #include "cubeao/bake/probe_set.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -56,6 +57,13 @@ void writeProbeSet(const std::filesystem::path& file, const std::vector<ProbeSpe
     std::error_code ec;
     std::filesystem::rename(tmp, file, ec);
     if (ec) throw Error(file.string() + ": cannot replace (" + ec.message() + ")");
+}
+
+std::vector<ProbeSpec> probesAlongPath(const CameraPath& path, std::size_t count) {
+    std::vector<ProbeSpec> probes;
+    const std::size_t n = std::min(count, path.frames.size());
+    for (std::size_t i = 0; i < n; ++i) probes.push_back({path.frames[(2 * i + 1) * path.frames.size() / (2 * n)].eye});
+    return probes;
 }
 
 }  // namespace cubeao

@@ -8,6 +8,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "cubeao/scene/camera_path.h"
+
 namespace cubeao {
 
 struct ProbeSpec {
@@ -19,5 +21,9 @@ struct ProbeSpec {
 std::vector<ProbeSpec> readProbeSet(const std::filesystem::path& file);
 // Atomic (temporary file + rename).
 void writeProbeSet(const std::filesystem::path& file, const std::vector<ProbeSpec>& probes);
+
+// `cubeao place --method path`: min(count, frames) probes at the camera's eye, at the frame centres of
+// that many equal parts of the path (the first and last half a part in).
+std::vector<ProbeSpec> probesAlongPath(const CameraPath& path, std::size_t count);
 
 }  // namespace cubeao

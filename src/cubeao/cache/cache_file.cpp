@@ -43,7 +43,7 @@ constexpr std::size_t magic = 0, version = 8, headerSize = 12, sceneHash = 16, r
 }  // namespace hdr
 namespace ent {  // byte offsets in a probe table entry
 constexpr std::size_t position = 0, maxDistance = 12, aoOffset = 16, aoSize = 24, depthOffset = 32, depthSize = 40,
-                      checksum = 48, reserved = 56;
+                      checksum = 48, index = 56, reserved = 60;
 }  // namespace ent
 
 // ---- little-endian encoding, independent of the host's byte order -----------------------------------
@@ -279,8 +279,12 @@ void checkProbesToWrite(const std::filesystem::path& path, const CacheParams& pa
     if (probes.size() > std::numeric_limits<std::uint32_t>::max())
         problems.push_back(std::to_string(probes.size()) + " probes, at most 2^32 - 1 fit the table");
     const std::uint64_t aoSize = aoSectionSize(params), depthSize = depthSectionSize(params);
+    std::map<std::uint32_t, std::size_t> indices;
     for (std::size_t i = 0; i < probes.size() && problems.size() < 16; ++i) {
         const ProbeView& v = probes[i];
+        if (const auto [it, fresh] = indices.emplace(v.index, i); !fresh)
+            problems.push_back(probeName(i) + ": index " + std::to_string(v.index) + " is also " +
+                               probeName(it->second) + "'s");
         if (v.aoConfidence.size() != aoSize)
             problems.push_back(probeName(i) + ": AO section has " + std::to_string(v.aoConfidence.size()) +
                                " bytes, res " + std::to_string(params.res) + " needs " + std::to_string(aoSize));
@@ -379,7 +383,7 @@ std::uint64_t cacheFileSize(const CacheParams& p, std::uint64_t probes) {
     return kHeaderSize + probes * (kEntrySize + alignUp(aoSectionSize(p) + depthSectionSize(p))) + kTrailerSize;
 }
 
-ProbeView viewOf(const ProbeRecord& r) { return {r.position, r.maxDistance, r.aoConfidence, r.depth}; }
+ProbeView viewOf(const ProbeRecord& r) { return {r.index, r.position, r.maxDistance, r.aoConfidence, r.depth}; }
 
 // ---- writer -------------------------------------------------------------------------------------------
 
@@ -402,6 +406,7 @@ void writeCache(const std::filesystem::path& path, const CacheParams& params, st
         putF32(e + ent::position + 4, v.position.y);
         putF32(e + ent::position + 8, v.position.z);
         putF32(e + ent::maxDistance, v.maxDistance);
+        put32(e + ent::index, v.index);
         put64(e + ent::aoOffset, aoOffset);
         put64(e + ent::aoSize, aoSize);
         put64(e + ent::depthOffset, aoOffset + aoSize);  // aoSize is a multiple of 16: no gap
@@ -577,10 +582,12 @@ void CacheReader::validateTable(std::uint64_t tableChecksum) {
     entries_.clear();
     entries_.reserve(count);
     std::uint64_t cursor = payloadOffset;  // sections appear in table order without overlap
+    std::map<std::uint32_t, std::uint32_t> indices;  // probe index → table entry
     for (std::uint32_t i = 0; i < count; ++i) {
         const std::uint8_t* e = table + kEntrySize * i;
         const std::string at = where(probeName(i));
-        Entry r{{getF32(e + ent::position), getF32(e + ent::position + 4), getF32(e + ent::position + 8)},
+        Entry r{get32(e + ent::index),
+                {getF32(e + ent::position), getF32(e + ent::position + 4), getF32(e + ent::position + 8)},
                 getF32(e + ent::maxDistance), get64(e + ent::aoOffset), get64(e + ent::aoSize),
                 get64(e + ent::depthOffset), get64(e + ent::depthSize), get64(e + ent::checksum)};
         if (!std::isfinite(r.position.x) || !std::isfinite(r.position.y) || !std::isfinite(r.position.z))
@@ -589,6 +596,8 @@ void CacheReader::validateTable(std::uint64_t tableChecksum) {
             throw Error(at + "maxDistance " + fmtFloat(r.maxDistance) + " is not finite and >= 0");
         if (!allZero(e + ent::reserved, kEntrySize - ent::reserved))
             throw Error(at + "reserved bytes of its table entry are not zero");
+        if (const auto [it, fresh] = indices.emplace(r.index, i); !fresh)
+            throw Error(at + "index " + std::to_string(r.index) + " is also " + probeName(it->second) + "'s");
         if (r.aoSize != aoSize)
             throw Error(at + "AO section is " + std::to_string(r.aoSize) + " bytes, res " +
                         std::to_string(params_.res) + " needs " + std::to_string(aoSize));
@@ -633,6 +642,7 @@ const CacheReader::Entry& CacheReader::entry(std::size_t i) const {
 
 glm::vec3 CacheReader::position(std::size_t i) const { return entry(i).position; }
 float CacheReader::maxDistance(std::size_t i) const { return entry(i).maxDistance; }
+std::uint32_t CacheReader::index(std::size_t i) const { return entry(i).index; }
 
 std::uint64_t CacheReader::probeChecksum(const Entry& e) const {
     return hashProbe({data_ + e.aoOffset, e.aoSize}, {data_ + e.depthOffset, e.depthSize});
@@ -650,12 +660,12 @@ void CacheReader::checkProbe(std::size_t i) const {
 ProbeView CacheReader::probe(std::size_t i) const {
     const Entry& e = entry(i);
     checkProbe(i);
-    return {e.position, e.maxDistance, {data_ + e.aoOffset, e.aoSize}, {data_ + e.depthOffset, e.depthSize}};
+    return {e.index, e.position, e.maxDistance, {data_ + e.aoOffset, e.aoSize}, {data_ + e.depthOffset, e.depthSize}};
 }
 
 ProbeRecord CacheReader::copyProbe(std::size_t i) const {
     const ProbeView v = probe(i);
-    return {v.position, v.maxDistance, {v.aoConfidence.begin(), v.aoConfidence.end()},
+    return {v.index, v.position, v.maxDistance, {v.aoConfidence.begin(), v.aoConfidence.end()},
             {v.depth.begin(), v.depth.end()}};
 }
 
@@ -701,18 +711,24 @@ void appendToCache(const std::filesystem::path& path, const CacheParams& params,
         throw Error(path.string() + ": cannot append: the cache was baked with other parameters (cache vs new): " +
                     join(d, ", "));
     std::map<PositionKey, std::size_t> seen;
+    std::map<std::uint32_t, std::size_t> indices;
     std::vector<ProbeView> all;
     all.reserve(old.probeCount() + newProbes.size());
     for (std::size_t i = 0; i < old.probeCount(); ++i) {
         all.push_back(old.probe(i));  // checksum checked: damage is never copied into a fresh checksum
         seen.emplace(positionKey(all.back().position), i);
+        indices.emplace(all.back().index, i);
     }
+    const auto which = [&](std::size_t at) {
+        return "probe " + std::to_string(at < old.probeCount() ? at : at - old.probeCount()) +
+               (at < old.probeCount() ? " of the cache" : " of the new probes");
+    };
     for (std::size_t i = 0; i < newProbes.size(); ++i) {
-        const auto [it, fresh] = seen.emplace(positionKey(newProbes[i].position), old.probeCount() + i);
-        if (!fresh)
-            throw Error(path.string() + ": cannot append: new probe " + std::to_string(i) + " at " +
-                        fmtVec(newProbes[i].position) + " is already probe " + std::to_string(it->second) +
-                        (it->second < old.probeCount() ? " of the cache" : " of the new probes"));
+        const std::string probe = path.string() + ": cannot append: new probe " + std::to_string(i);
+        if (const auto [it, fresh] = seen.emplace(positionKey(newProbes[i].position), old.probeCount() + i); !fresh)
+            throw Error(probe + " at " + fmtVec(newProbes[i].position) + " is already " + which(it->second));
+        if (const auto [it, fresh] = indices.emplace(newProbes[i].index, old.probeCount() + i); !fresh)
+            throw Error(probe + " has index " + std::to_string(newProbes[i].index) + ", as " + which(it->second));
         all.push_back(newProbes[i]);
     }
     writeCache(path, params, all, options);
@@ -738,19 +754,26 @@ void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesy
             throw Error(inputs[k].string() + ": cannot merge with " + inputs[0].string() +
                         ", baked with other parameters (" + inputs[0].filename().string() + " vs this): " +
                         join(d, ", "));
-    // The same position twice means the same probe was baked by two shards (overlapping --shard
-    // ranges, or one input given twice): refuse rather than guess which copy is right.
+    // The same position or index twice means the same probe was baked by two shards (overlapping
+    // --shard ranges, or one input given twice): refuse rather than guess which copy is right.
     std::map<PositionKey, std::pair<std::size_t, std::size_t>> seen;
+    std::map<std::uint32_t, std::pair<std::size_t, std::size_t>> indices;
     std::vector<ProbeView> all;
     for (std::size_t k = 0; k < readers.size(); ++k)
         for (std::size_t i = 0; i < readers[k].probeCount(); ++i) {
-            const auto [it, fresh] = seen.emplace(positionKey(readers[k].position(i)), std::pair(k, i));
-            if (!fresh)
-                throw Error(inputs[k].string() + ": probe " + std::to_string(i) + " at " +
-                            fmtVec(readers[k].position(i)) + " is also probe " + std::to_string(it->second.second) +
-                            " of " + inputs[it->second.first].string() + " (baked twice: overlapping shards?)");
+            const std::string probe = inputs[k].string() + ": probe " + std::to_string(i);
+            const auto other = [&](std::pair<std::size_t, std::size_t> at) {
+                return "probe " + std::to_string(at.second) + " of " + inputs[at.first].string() +
+                       " (baked twice: overlapping shards?)";
+            };
+            if (const auto [it, fresh] = seen.emplace(positionKey(readers[k].position(i)), std::pair(k, i)); !fresh)
+                throw Error(probe + " at " + fmtVec(readers[k].position(i)) + " is also " + other(it->second));
+            if (const auto [it, fresh] = indices.emplace(readers[k].index(i), std::pair(k, i)); !fresh)
+                throw Error(probe + " has index " + std::to_string(readers[k].index(i)) + ", as " + other(it->second));
             all.push_back(readers[k].probe(i));
         }
+    // Index order: shards merged in any order give the same file as one unsharded bake.
+    std::stable_sort(all.begin(), all.end(), [](const ProbeView& x, const ProbeView& y) { return x.index < y.index; });
     writeCache(out, params, all, options);
 }
 

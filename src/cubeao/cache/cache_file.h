@@ -70,6 +70,8 @@ std::uint64_t cacheFileSize(const CacheParams& p, std::uint64_t probes);
 
 // One probe as the bake hands it over and tools get it back.
 struct ProbeRecord {
+    std::uint32_t index = 0;                  // the probe's index in probes.json: it seeds its texels'
+                                              // sample keys, and is unique within a cache
     glm::vec3 position{0.0f};
     float maxDistance = 0.0f;                 // scale of R16Unorm distances (world units)
     std::vector<std::uint8_t> aoConfidence;   // aoSectionSize(params) bytes of BC5 blocks
@@ -79,6 +81,7 @@ struct ProbeRecord {
 // One probe without copies: spans into a reader's mapping (valid while the reader lives) or into
 // the caller's buffers when writing.
 struct ProbeView {
+    std::uint32_t index = 0;
     glm::vec3 position{0.0f};
     float maxDistance = 0.0f;
     std::span<const std::uint8_t> aoConfidence;
@@ -94,7 +97,7 @@ struct WriteOptions {
 
 // Writes `path` atomically: a uniquely named temporary file in the same directory, fsync, rename
 // over `path`, fsync of the directory. On any failure the temporary file is removed, `path` is left
-// as it was, and cubeao::Error names the file and what failed.
+// as it was, and cubeao::Error names the file and what failed. Probe indices must be distinct.
 void writeCache(const std::filesystem::path& path, const CacheParams& params, std::span<const ProbeView> probes,
                 const WriteOptions& options = {});
 void writeCache(const std::filesystem::path& path, const CacheParams& params, const std::vector<ProbeRecord>& probes,
@@ -132,6 +135,7 @@ public:
     // so an engine can build its spatial index of probes without reading the payload.
     glm::vec3 position(std::size_t i) const;
     float maxDistance(std::size_t i) const;
+    std::uint32_t index(std::size_t i) const;  // the probe's index in probes.json
 
     // Spans into the mapping; checks probe i's checksum the first time it is asked for.
     ProbeView probe(std::size_t i) const;
@@ -146,6 +150,7 @@ public:
 
 private:
     struct Entry {
+        std::uint32_t index;
         glm::vec3 position;
         float maxDistance;
         std::uint64_t aoOffset, aoSize, depthOffset, depthSize, checksum;
@@ -168,16 +173,17 @@ private:
 
 // Resume a bake: `path`'s probes followed by `newProbes`, rewritten atomically (the whole file is
 // written again: docs/FORMAT.md "Appending"). The existing cache must have exactly `params` (scene
-// hash included) and its probes must pass their checksums; a new probe at the position of an existing
-// one is an error. A missing `path` is created as by writeCache.
+// hash included) and its probes must pass their checksums; a new probe at the position or with the
+// index of an existing one is an error. A missing `path` is created as by writeCache.
 void appendToCache(const std::filesystem::path& path, const CacheParams& params, std::span<const ProbeView> newProbes,
                    const WriteOptions& options = {});
 void appendToCache(const std::filesystem::path& path, const CacheParams& params,
                    const std::vector<ProbeRecord>& newProbes, const WriteOptions& options = {});
 
-// `cubeao merge OUT IN...`: the probes of every input in argument order, written atomically to `out`
-// (which may be one of the inputs). Inputs must share scene hash and parameters, and no position may
-// occur twice (the same probe baked in two shards); errors name the input file.
+// `cubeao merge OUT IN...`: the probes of every input, sorted by index (so shards merged in any order
+// give the file an unsharded bake writes), written atomically to `out`
+// (which may be one of the inputs). Inputs must share scene hash and parameters, and no position or
+// index may occur twice (the same probe baked in two shards); errors name the input file.
 void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesystem::path>& inputs,
                  const WriteOptions& options = {});
 

@@ -7,13 +7,13 @@
 #include <glm/geometric.hpp>
 
 #include "cubeao/bake/cube.h"
+#include "cubeao/cache/depth_cube.h"
 
 namespace cubeao {
 
-ProjectSettings resolveProjectSettings(ProjectSettings s, int depthRes) {
-    // Two depth texels at the face centre span 4/depthRes of the distance (tan of the texel angle ≈
-    // 2/depthRes): a surface seen at a slant changes distance that much within one texel.
-    if (s.depthTolerance == 0.0f) s.depthTolerance = 4.0f / float(std::max(depthRes, 1));
+ProjectSettings resolveProjectSettings(ProjectSettings s) {
+    if (s.depthTolerance == 0.0f) s.depthTolerance = depth::kDepthTolerance;
+    if (s.depthSlope == 0.0f) s.depthSlope = depth::kDepthSlope;
     if (s.minFacing == 0.0f) s.minFacing = 0.05f;
     return s;
 }
@@ -31,11 +31,13 @@ double texelFootprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec
     return solidAngle * double(distance) * distance / std::max(facing, minFacing);
 }
 
-bool probeSees(const DecodedProbe& probe, const glm::vec3& x, float relativeTolerance) {
+bool probeSees(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n, const ProjectSettings& settings) {
     const glm::vec3 d = x - probe.position;
     const float stored = probe.distance[cube::texelIndex(d, probe.depthRes)];
     if (!(stored > 0.0f)) return false;  // the probe saw nothing there: x cannot be on a surface it saw
-    return glm::length(d) <= stored * (1.0f + relativeTolerance);
+    const float distance = glm::length(d);
+    const depth::DepthTest test{settings.depthTolerance, settings.depthSlope, true};
+    return depth::visible(test, stored, distance, -glm::dot(n, d) / distance, probe.depthRes);
 }
 
 Projected projectAo(std::span<const DecodedProbe> candidates, const glm::vec3& x, const glm::vec3& n,
@@ -46,7 +48,7 @@ Projected projectAo(std::span<const DecodedProbe> candidates, const glm::vec3& x
     };
     Ranked best[3];  // descending quality
     for (const DecodedProbe& probe : candidates) {
-        if (!probeSees(probe, x, settings.depthTolerance)) continue;
+        if (!probeSees(probe, x, n, settings)) continue;
         const double area = texelFootprint(probe.position, x, n, probe.res, settings.minFacing);
         if (!std::isfinite(area)) continue;
         const std::size_t t = cube::texelIndex(x - probe.position, probe.res);

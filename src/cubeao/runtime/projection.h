@@ -21,8 +21,9 @@
 namespace cubeao {
 
 struct ProjectSettings {
-    float depthTolerance = 0.0f;  // relative slack of the depth test; 0 → 2 depth-cube texels' worth
-    float minFacing = 0.0f;       // smallest |cos| between normal and probe direction used; 0 → 0.05
+    float depthTolerance = 0.0f;  // relative bias of the depth test; 0 → depth::kDepthTolerance
+    float depthSlope = 0.0f;      // slope-scaled bias; 0 → depth::kDepthSlope (src/cubeao/cache/depth_cube.h)
+    float minFacing = 0.0f;       // smallest cos θ between normal and probe direction used; 0 → 0.05
 };
 
 // One probe as the projection reads it: decoded AO + confidence per texel (cube::texelIndex order,
@@ -40,9 +41,10 @@ struct DecodedProbe {
 // (2/res)² / (1 + u² + v²)^{3/2}; area = solid angle · d² / |cos θ|.
 double texelFootprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n, int res, float minFacing);
 
-// Whether the probe sees x: |x − probe| within the distance cube's value in that direction, with
-// slack `relativeTolerance` (fraction of the distance).
-bool probeSees(const DecodedProbe& probe, const glm::vec3& x, float relativeTolerance);
+// Whether the probe sees surface point x with normal n (turned to the camera): depth::visible() of
+// src/cubeao/cache/depth_cube.h with the settings' biases, except that an empty texel (the probe saw
+// no surface that way) does not count as seeing x: its AO texels hold nothing for x either.
+bool probeSees(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n, const ProjectSettings& settings);
 
 struct Projected {
     float ao = 1.0f;
@@ -54,7 +56,7 @@ struct Projected {
 Projected projectAo(std::span<const DecodedProbe> candidates, const glm::vec3& x, const glm::vec3& n,
                     const ProjectSettings& settings);
 
-// Resolves zero fields of settings for a depth cube of depthRes texels per side.
-ProjectSettings resolveProjectSettings(ProjectSettings s, int depthRes);
+// Resolves the zero fields of settings.
+ProjectSettings resolveProjectSettings(ProjectSettings s);
 
 }  // namespace cubeao

@@ -1,0 +1,277 @@
+// From a baked probe to the cache: bake settings → cache parameters, the CPU and GPU encoders on the
+// same bake (BC5 blocks identical, distance cube within one code), the production read-back that
+// keeps uncompressed data on the GPU, the AO PSNR target, and BakeCacheWriter's batches and refusals
+// (bake/bake_cache.h; the CLI around it is in test_cli.cpp).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "cubeao/bake/bake.h"
+#include "cubeao/bake/bake_cache.h"
+#include "cubeao/bake/gpu_bake.h"
+#include "cubeao/cache/bc4.h"
+#include "cubeao/cache/depth_cube.h"
+#include "cubeao/scene/import.h"
+#include "gl_fixture.h"
+#include "test_util.h"
+
+namespace cubeao {
+namespace {
+
+namespace fs = std::filesystem;
+using test::contains;
+using test::errorMessage;
+using test::TempDir;
+
+constexpr glm::vec3 kBoxProbe{3.0f, 1.4f, 2.5f};
+
+const Scene& boxRoom() {
+    static const Scene scene = loadScene("builtin:box-room");
+    return scene;
+}
+
+BakeSettings settingsFor(Estimator e, int res, float radius, int spp = 16) {
+    BakeSettings s;
+    s.res = res;
+    s.estimator = e;
+    s.ao.radius = radius;
+    s.ao.spp = spp;
+    return resolveBakeSettings(s, radius);
+}
+
+// ---- settings → cache parameters ---------------------------------------------------------------
+
+TEST(BakeSettingsCache, ParametersKeepWhatTheEstimatorUses) {
+    BakeSettings s = settingsFor(Estimator::HorizonSplit, 16, 0.5f, 32);
+    EXPECT_EQ(s.depthRes, 4);
+    EXPECT_EQ(s.depthFormat, DepthFormat::R16Unorm);
+    CacheParams p = cacheParamsFor(s, 42);
+    EXPECT_EQ(p.sceneHash, 42u);
+    EXPECT_EQ(p.res, 16u);
+    EXPECT_EQ(p.depthRes, 4u);
+    EXPECT_EQ(p.estimator, 0u);
+    EXPECT_EQ(p.spp, 0u) << "hsplit casts no rays";
+    EXPECT_EQ(p.directions, 16u);
+    EXPECT_EQ(p.hybridThreshold, 0.0f);
+    EXPECT_EQ(p.radius, 0.5f);
+    EXPECT_TRUE(cacheParamProblems(p).empty());
+
+    s.estimator = Estimator::Traced;
+    p = cacheParamsFor(s, 42);
+    EXPECT_EQ(p.spp, 32u);
+    EXPECT_EQ(p.directions, 0u);
+    EXPECT_EQ(p.steps, 0u);
+    s.estimator = Estimator::Hybrid;
+    p = cacheParamsFor(s, 42);
+    EXPECT_EQ(p.estimator, 3u);
+    EXPECT_EQ(p.spp, 32u);
+    EXPECT_EQ(p.directions, 16u);
+    EXPECT_EQ(p.hybridThreshold, 0.95f);
+}
+
+TEST(BakeSettingsCache, ResolveChecksResolutionsAndDepthFormat) {
+    BakeSettings s;
+    s.res = 6;
+    EXPECT_TRUE(contains(errorMessage([&] { resolveBakeSettings(s, 1.0f); }), "multiple of 4"));
+    s.res = 8;
+    s.depthRes = 9;
+    EXPECT_TRUE(contains(errorMessage([&] { resolveBakeSettings(s, 1.0f); }), "--depth-res 9"));
+    s.depthRes = 0;
+    s.depthFormat = DepthFormat(7);
+    EXPECT_TRUE(contains(errorMessage([&] { resolveBakeSettings(s, 1.0f); }), "depth format 7"));
+    s.depthFormat = DepthFormat::R32Float;
+    const BakeSettings r = resolveBakeSettings(s, 1.0f);
+    EXPECT_EQ(r.depthRes, 2);
+    EXPECT_EQ(r.depthFormat, DepthFormat::R32Float);
+}
+
+// ---- the CPU path encodes what it baked ----------------------------------------------------------
+
+TEST(BakeEncode, CpuBakeEncodesWhatItBakedAndMeetsFortyDecibels) {
+    const EmbreeScene rt(boxRoom());
+    for (const Estimator e : {Estimator::HorizonSplit, Estimator::Traced}) {
+        const BakeSettings s = settingsFor(e, 32, 1.0f, 64);
+        const BakedProbe p = bakeProbeCpu(rt, kBoxProbe, 3, s);
+        std::vector<glm::vec2> aoConfidence(p.ao.size());
+        for (std::size_t t = 0; t < p.ao.size(); ++t) aoConfidence[t] = {p.ao[t], p.confidence[t]};
+        EXPECT_EQ(p.encoded.aoConfidence, bc::encodeBc5Cube(aoConfidence, s.res));
+        const std::vector<float> coarse = depth::downsample(p.gbuffer.texels, s.res, s.depthRes, depth::kFilter);
+        EXPECT_EQ(p.encoded.maxDistance, depth::maxDistance(coarse));
+        EXPECT_EQ(p.encoded.depth, depth::encode(coarse, s.depthFormat, p.encoded.maxDistance));
+        EXPECT_EQ(p.encoded.surfaceTexels, p.ao.size()) << "the room is closed: every texel shows a surface";
+        // The target (there on Sibenik probes): AO PSNR ≥ 40 dB against the uncompressed bake.
+        const double psnr = aoPsnr(p.encoded.aoSquaredError, p.encoded.surfaceTexels);
+        std::printf("[ bake bc5 ] box room %s res 32: AO PSNR %.2f dB\n", estimatorName(e), psnr);
+        EXPECT_GE(psnr, 40.0) << estimatorName(e);
+        EXPECT_GT(p.timings.encodeMs, 0.0);
+    }
+}
+
+// ---- GPU encoders against the CPU twin -----------------------------------------------------------
+
+class BakeEncodeGl : public GlTest {};
+
+void expectSameEncoding(const EncodedProbe& gpu, const EncodedProbe& cpu, DepthFormat f) {
+    EXPECT_TRUE(gpu.aoConfidence == cpu.aoConfidence) << "BC5 blocks differ";
+    EXPECT_EQ(gpu.maxDistance, cpu.maxDistance);
+    EXPECT_EQ(gpu.surfaceTexels, cpu.surfaceTexels);
+    EXPECT_NEAR(gpu.aoSquaredError, cpu.aoSquaredError, 1e-4 * cpu.aoSquaredError + 1e-9);
+    ASSERT_EQ(gpu.depth.size(), cpu.depth.size());
+    const std::size_t per = depthBytesPerTexel(f);
+    std::size_t off = 0;
+    for (std::size_t t = 0; t < cpu.depth.size() / per; ++t) {
+        std::int64_t a = 0, b = 0;
+        for (std::size_t k = 0; k < per; ++k) {
+            a |= std::int64_t(gpu.depth[t * per + k]) << (8 * k);
+            b |= std::int64_t(cpu.depth[t * per + k]) << (8 * k);
+        }
+        off += std::abs(a - b) > (f == DepthFormat::R16Unorm ? 1 : 0) ? 1 : 0;
+    }
+    EXPECT_EQ(off, 0u) << "depth texels more than one code apart";
+}
+
+TEST_F(BakeEncodeGl, GpuEncodersMatchTheCpuTwinOnTheSameBake) {
+    for (const Estimator e : {Estimator::HorizonSplit, Estimator::Traced})
+        for (const DepthFormat f : {DepthFormat::R16Unorm, DepthFormat::R16Float, DepthFormat::R32Float})
+            for (const int depthRes : {0, 5}) {
+                SCOPED_TRACE(std::string(estimatorName(e)) + " " + depthFormatName(f) + " depthRes " +
+                             std::to_string(depthRes));
+                BakeSettings s = settingsFor(e, 32, 1.0f);
+                s.depthFormat = f;
+                s.depthRes = depthRes == 0 ? s.depthRes : depthRes;
+                GpuBaker baker(boxRoom(), s);
+                baker.setReadback(BakeReadback::All);
+                const BakedProbe p = baker.bake(kBoxProbe, 4);
+                ASSERT_EQ(p.gbuffer.texels.size(), p.gbuffer.texelCount());
+                expectSameEncoding(p.encoded, encodeProbeCpu(p.gbuffer, p.ao, p.confidence, s), f);
+                EXPECT_GT(p.timings.encodeMs, 0.0);
+            }
+}
+
+TEST_F(BakeEncodeGl, ProductionReadBackLeavesTheUncompressedProbeOnTheGpu) {
+    const BakeSettings s = settingsFor(Estimator::Gtao, 16, 1.0f);
+    GpuBaker baker(boxRoom(), s);
+    const BakedProbe encoded = baker.bake(kBoxProbe, 1);  // default: BakeReadback::Encoded
+    EXPECT_TRUE(encoded.gbuffer.texels.empty());
+    EXPECT_TRUE(encoded.ao.empty() && encoded.confidence.empty());
+    EXPECT_EQ(encoded.encoded.aoConfidence.size(), bc::bc5Size(16));
+    baker.setReadback(BakeReadback::All);
+    const BakedProbe all = baker.bake(kBoxProbe, 1);
+    EXPECT_EQ(all.encoded.aoConfidence, encoded.encoded.aoConfidence);
+    EXPECT_EQ(all.encoded.depth, encoded.encoded.depth);
+    EXPECT_EQ(all.encoded.surfaceTexels, encoded.encoded.surfaceTexels);
+}
+
+// The two devices' caches for the same probe: traced AO traces the same rays on both, so the decoded
+// AO agrees up to grazing-ray flips; the distance cubes differ only where rasterisation and Embree
+// pick different triangles at an edge.
+TEST_F(BakeEncodeGl, GpuAndCpuBakesStoreTheSameProbeWithinTolerance) {
+    const BakeSettings s = settingsFor(Estimator::Traced, 16, 1.0f, 16);
+    GpuBaker baker(boxRoom(), s);
+    const EncodedProbe gpu = baker.bake(kBoxProbe, 2).encoded;
+    const EncodedProbe cpu = bakeProbeCpu(EmbreeScene(boxRoom()), kBoxProbe, 2, s).encoded;
+    std::vector<glm::vec2> a, b;
+    ASSERT_TRUE(bc::decodeBc5Cube(gpu.aoConfidence.data(), gpu.aoConfidence.size(), s.res, a));
+    ASSERT_TRUE(bc::decodeBc5Cube(cpu.aoConfidence.data(), cpu.aoConfidence.size(), s.res, b));
+    double mae = 0.0;
+    for (std::size_t t = 0; t < a.size(); ++t) mae += std::abs(a[t].x - b[t].x) / double(a.size());
+    EXPECT_LE(mae, 0.01);
+    std::vector<float> da, db;
+    ASSERT_TRUE(depth::decode(gpu.depth, s.depthRes, s.depthFormat, gpu.maxDistance, da));
+    ASSERT_TRUE(depth::decode(cpu.depth, s.depthRes, s.depthFormat, cpu.maxDistance, db));
+    std::size_t off = 0;
+    for (std::size_t t = 0; t < da.size(); ++t) off += std::abs(da[t] - db[t]) > 2e-4f * db[t] + 2.0f * cpu.maxDistance / 65535.0f;
+    EXPECT_LE(off, da.size() / 100) << "distance texels that differ by more than a code";
+    EXPECT_NEAR(gpu.maxDistance, cpu.maxDistance, 1e-4f * cpu.maxDistance);
+}
+
+// ---- BakeCacheWriter -----------------------------------------------------------------------------
+
+CacheParams smallParams() {
+    CacheParams p;
+    p.sceneHash = 7;
+    p.res = 4;
+    p.depthRes = 1;
+    p.radius = 1.0f;
+    return p;
+}
+
+std::vector<ProbeSpec> probeSet(int n) {
+    std::vector<ProbeSpec> probes;
+    for (int i = 0; i < n; ++i) probes.push_back({glm::vec3(float(i), 1.0f, 2.0f)});
+    return probes;
+}
+
+ProbeRecord record(const CacheParams& p, const std::vector<ProbeSpec>& probes, std::uint32_t index) {
+    return {index, probes[index].position, 1.0f, std::vector<std::uint8_t>(aoSectionSize(p), std::uint8_t(index)),
+            std::vector<std::uint8_t>(depthSectionSize(p), 1)};
+}
+
+TEST(BakeCacheWriter, AppendsInBatchesAndResumes) {
+    TempDir dir("bakecache");
+    const fs::path path = dir / "a.cubeao";
+    const CacheParams p = smallParams();
+    const auto probes = probeSet(5);
+    {
+        BakeCacheWriter w(path, p, probes, {2, 1e9});
+        EXPECT_FALSE(fs::exists(path)) << "nothing is written before the first batch";
+        w.add(record(p, probes, 0));
+        EXPECT_FALSE(fs::exists(path));
+        w.add(record(p, probes, 1));
+        EXPECT_EQ(CacheReader(path).probeCount(), 2u) << "a full batch is appended";
+        w.add(record(p, probes, 2));
+        EXPECT_TRUE(contains(errorMessage([&] { w.add(record(p, probes, 2)); }), "probe index 2 baked twice"));
+        // No finish(): stands for an exception while baking probe 3; the destructor keeps probe 2.
+    }
+    EXPECT_EQ(CacheReader(path).probeCount(), 3u);
+
+    BakeCacheWriter w(path, p, probes);
+    EXPECT_EQ(w.probesAtStart(), 3u);
+    EXPECT_TRUE(w.has(0) && w.has(1) && w.has(2));
+    EXPECT_FALSE(w.has(3));
+    w.add(record(p, probes, 4));
+    w.add(record(p, probes, 3));
+    w.finish();
+    const CacheReader r(path);
+    ASSERT_EQ(r.probeCount(), 5u);
+    EXPECT_EQ(r.index(3), 4u);  // appended in bake order
+    EXPECT_EQ(w.appends(), 1u);
+}
+
+TEST(BakeCacheWriter, RefusesWhatIsNotTheSameBake) {
+    TempDir dir("bakecache");
+    const fs::path path = dir / "a.cubeao";
+    const CacheParams p = smallParams();
+    const auto probes = probeSet(3);
+    {
+        BakeCacheWriter w(path, p, probes);
+        w.finish();  // nothing baked: an empty cache, so shards without probes still merge
+    }
+    EXPECT_EQ(CacheReader(path).probeCount(), 0u);
+    appendToCache(path, p, std::vector<ProbeRecord>{record(p, probes, 1)});
+
+    CacheParams other = p;
+    other.seed = 9;
+    std::string msg = errorMessage([&] { BakeCacheWriter w(path, other, probes); });
+    EXPECT_TRUE(contains(msg, "other bake parameters") && contains(msg, "seed 0 vs 9") &&
+                contains(msg, "choose another --out or delete the file"))
+        << msg;
+    auto moved = probes;
+    moved[1].position.x += 0.5f;
+    msg = errorMessage([&] { BakeCacheWriter w(path, p, moved); });
+    EXPECT_TRUE(contains(msg, "holds probe index 1 at (1, 1, 2), the probe set puts it at (1.5, 1, 2)")) << msg;
+    msg = errorMessage([&] { BakeCacheWriter w(path, p, probeSet(1)); });
+    EXPECT_TRUE(contains(msg, "the probe set has 1 probes")) << msg;
+    msg = errorMessage([&] { BakeCacheWriter w(dir.path(), p, probes); });
+    EXPECT_TRUE(contains(msg, "--out is a directory")) << msg;
+    const std::string text = dir.write("notes.cubeao", "hello");
+    msg = errorMessage([&] { BakeCacheWriter w(text, p, probes); });
+    EXPECT_TRUE(contains(msg, "not a cubeao cache") && contains(msg, "choose another --out")) << msg;
+}
+
+}  // namespace
+}  // namespace cubeao
