@@ -420,13 +420,34 @@ nlohmann::json lastLine(const std::string& out) {
 TEST(RenderCli, UsageErrors) {
     TempDir dir;
     const std::string out = " --out " + dir.path().string();
-    EXPECT_EQ(runCli("render builtin:box-room --method probes" + out).code, 2);
-    EXPECT_EQ(runCli("render builtin:box-room --method probes --cache x.cubeao" + out).code, 2);
+    EXPECT_EQ(runCli("render builtin:box-room --method probes" + out).code, 2) << "probes need --cache";
+    EXPECT_EQ(runCli("render builtin:box-room --method probes --cache " + (dir.path() / "none.cubeao").string() + out).code, 1);
     EXPECT_EQ(runCli("render builtin:box-room --method ssao" + out).code, 2);
     EXPECT_EQ(runCli("render builtin:box-room --falloff linear" + out).code, 2);
     EXPECT_EQ(runCli("render builtin:box-room --blur -1" + out).code, 2);
     EXPECT_EQ(runCli("render builtin:box-room --frames 5:5" + out).code, 2);
     EXPECT_EQ(runCli("render /no/such/scene.obj --camera x.json" + out).code, 1);
+}
+
+TEST_F(RuntimeGl, RenderProbesFromABakedCacheAndRefuseAnotherScenesCache) {
+    TempDir dir;
+    const std::string probes = dir.write("probes.json", R"({"version":1,"probes":[{"pos":[3,1.4,2.5]},{"pos":[6,1.5,1.5]}]})");
+    const fs::path cache = dir.path() / "c.cubeao", render = dir.path() / "render";
+    ASSERT_EQ(runCli("bake builtin:box-room --probes " + probes + " --out " + cache.string() + " --res 8 --spp 8 --device cpu").code, 0);
+    const CliRun r = runCli("render builtin:box-room --method probes --cache " + cache.string() +
+                            " --frames 0:2 --width 48 --height 27 --out " + render.string() + " --json");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = lastLine(r.out);
+    EXPECT_EQ(j["method"], "probes");
+    EXPECT_EQ(j["probes"].get<int>(), 2);
+    EXPECT_GE(j["uncovered_fraction"].get<double>(), 0.0);
+    EXPECT_LT(j["uncovered_fraction"].get<double>(), 0.5);
+    EXPECT_TRUE(fs::exists(render / "ao_0001.exr"));
+    // The same cache against another scene: refused, naming both hashes.
+    EXPECT_EQ(runCli("render builtin:cloister --method probes --cache " + cache.string() + " --frames 0:1 --out " +
+                     (dir.path() / "wrong").string()).code, 1);
+    EXPECT_EQ(runCli("render builtin:box-room --method probes --cache " + cache.string() + " --radius 0.3 --out " +
+                     (dir.path() / "radius").string()).code, 2) << "the probes carry their own R";
 }
 
 TEST_F(RuntimeGl, RenderCliWritesFramesThatCompareWithTheReference) {

@@ -12,6 +12,8 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
+#include "cubeao/cache/cache_file.h"
+#include "cubeao/runtime/probe_projection.h"
 #include "cubeao/core/error.h"
 #include "cubeao/core/progress.h"
 #include "cubeao/gl/context.h"
@@ -58,11 +60,13 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// Every problem with the method choice is a usage error, found before any file is read.
+// Every problem with the method choice is a usage error, found before any file is read. `probes`
+// keeps gtao's settings for the JSON fields it shares with the baselines.
 SsaoMethod parseMethod(const RenderArgs& a) {
-    if (a.method == "probes")
-        throw UsageError("--method probes: projection from a probe cache (--cache) is not available yet; "
-                         "use alchemy, hbao or gtao");
+    if (a.method == "probes") {
+        if (a.cache.empty()) throw UsageError("--method probes needs --cache CACHE.cubeao (from cubeao bake)");
+        return SsaoMethod::Gtao;
+    }
     if (a.method != "alchemy" && a.method != "hbao" && a.method != "gtao")
         throw UsageError("--method \"" + a.method + "\": expected probes, alchemy, hbao or gtao");
     return parseSsaoMethod(a.method);
@@ -96,13 +100,17 @@ PassSettings usageChecked(const RenderArgs& a) {
     p.blur.radius = a.blur;
     validateBlurSettings(p.blur);
     if (!(a.alpha >= 0.0f && a.alpha <= 1.0f)) throw UsageError("--alpha must lie in [0, 1]");
-    if (!a.cache.empty()) spdlog::warn("render: --cache is used only by --method probes; ignored for {}", a.method);
+    if (!a.cache.empty() && a.method != "probes")
+        spdlog::warn("render: --cache is used only by --method probes; ignored for {}", a.method);
     return p;
 }
 
 // The method as a pass from the camera G-buffer to raw AO; blur and composite are shared. The probe
 // projection (--method probes, with --cache) becomes one more case here.
-std::unique_ptr<AoPass> makeAoPass(const SsaoSettings& ssao) { return std::make_unique<SsaoPass>(ssao); }
+std::unique_ptr<AoPass> makeAoPass(const SsaoSettings& ssao, const CacheReader* cache, const Scene& scene) {
+    if (cache) return std::make_unique<ProbeProjectionPass>(*cache, scene.bounds.min, scene.bounds.max);
+    return std::make_unique<SsaoPass>(ssao);
+}
 
 // Writes ao_NNNN.exr/.png and shaded_NNNN.png of frame f; returns its entry of "frames".
 nlohmann::json writeFrame(const fs::path& out, std::size_t f, const RenderedFrame& frame) {
@@ -123,6 +131,16 @@ void run(const RenderArgs& a) {
     const Scene scene = loadScene(a.scene);
     const CameraPath path = resolveCameraPath(a.camera, a.scene);
     const FrameRange range = parseFrameRange(a.frames, path.frames.size());
+    std::unique_ptr<CacheReader> cache;
+    if (a.method == "probes") {
+        cache = std::make_unique<CacheReader>(a.cache);
+        cache->expectScene(scene.hash);
+        // The probes carry their own R; a different --radius would compare them against the wrong AO.
+        if (settings.ssao.radius > 0.0f && settings.ssao.radius != cache->params().radius)
+            throw UsageError("--radius " + std::to_string(settings.ssao.radius) + ": " + a.cache + " was baked with R = " +
+                             std::to_string(cache->params().radius));
+        settings.ssao.radius = cache->params().radius;
+    }
     const SsaoSettings ssao = resolveSsaoSettings(settings.ssao, scene.defaultRadius());
     int w = 0, h = 0;
     resolveSize(a, path, w, h);
@@ -135,7 +153,9 @@ void run(const RenderArgs& a) {
     CompositeSettings composite;
     composite.alpha = a.alpha;
     composite.lightDirection = defaultLightDirection(scene.up);
-    FrameRenderer renderer(scene.positions, scene.indices, makeAoPass(ssao), settings.blur, composite);
+    FrameRenderer renderer(scene.positions, scene.indices, makeAoPass(ssao, cache.get(), scene), settings.blur, composite);
+    auto* projection = dynamic_cast<ProbeProjectionPass*>(&renderer.method());
+    double uncovered = 0.0;
 
     nlohmann::json frames = nlohmann::json::array();
     std::vector<PassTimings> timings;
@@ -145,6 +165,7 @@ void run(const RenderArgs& a) {
         const RenderedFrame frame =
             renderer.render(CameraView::fromPinhole(PinholeCamera(path, f, w, h), path.nearPlane), std::uint32_t(f));
         fetches += renderer.method().fetchesPerPixel();
+        if (projection) uncovered += projection->uncoveredFraction();
         timings.push_back(frame.timings);
         frames.push_back(writeFrame(a.out, f, frame));
         progress.advance();
@@ -152,7 +173,7 @@ void run(const RenderArgs& a) {
     const double fetchesPerPixel = fetches / double(range.size());
     const nlohmann::json medians = timingsJson(timings);
     const bool wall = gl::trustedClock() == gl::GpuClock::WallClock;
-    const nlohmann::json result = {{"scene", scene.source},
+    nlohmann::json result = {{"scene", scene.source},
                                    {"scene_hash", hashToString(scene.hash)},
                                    {"method", renderer.method().name()},
                                    {"radius", ssao.radius},
@@ -172,6 +193,11 @@ void run(const RenderArgs& a) {
                                    {"fetches_per_pixel_planned", plannedFetchesPerPixel(ssao)},
                                    {"blur_fetches_per_pixel", renderer.blur().fetchesPerPixel()},
                                    {"out", a.out}};
+    if (projection) {
+        result["uncovered_fraction"] = uncovered / double(range.size());
+        result["cache"] = a.cache;
+        result["probes"] = cache->probeCount();
+    }
     std::ofstream(fs::path(a.out) / "render.json") << result.dump(1) << '\n';
     std::printf("render: %s, %zu frames -> %s; median ms: G-buffer %.2f, AO %.2f, blur %.2f, composite %.2f, "
                 "read-back %.2f (%s); %.1f fetches/pixel\n",
@@ -187,7 +213,7 @@ void run(const RenderArgs& a) {
 }  // namespace
 
 void addRender(CLI::App& app) {
-    auto* cmd = app.add_subcommand("render", "Run-time AO of a camera path: screen-space baselines (probes: later)");
+    auto* cmd = app.add_subcommand("render", "Run-time AO of a camera path: probes from a cache, or a screen-space baseline");
     auto a = std::make_shared<RenderArgs>();
     cmd->add_option("scene", a->scene, "Model file or builtin:NAME")->required();
     cmd->add_option("--camera", a->camera, "Camera path JSON (default for built-in scenes: their own path)");
