@@ -1,19 +1,21 @@
 #!/bin/bash
 # README command 1: the main job end to end on a built-in scene (default builtin:cloister).
-# Installs what is missing, builds, and runs what exists of the pipeline today:
-#   info → place probes along the camera path → bake them into probe caches (traced and
-#   horizon-split, on the GPU path: llvmpipe here) with the Embree twin checking every texel, and
-#   check every checksum of each cache (info --verify) → reference AO of the camera path
-#   (Embree, the ground truth) → a fast low-sample reference → compare the two → report.
-# `render` (projecting the probes into the camera) joins this same command when it lands.
+# Installs what is missing, builds, then:
+#   info → place probes along the camera path → bake them into probe caches (traced, and
+#   horizon-split for comparison; GPU path, llvmpipe here) with the Embree twin checking every texel,
+#   and every checksum of each cache checked (info --verify) → render the camera path from the probes
+#   and with the screen-space baselines (gtao, hbao, alchemy) → reference AO of the same path (Embree,
+#   the ground truth) → compare each against it → a table, report.json and pictures.
 # Environment: CUBEAO_DEMO_SCENE (default builtin:cloister), CUBEAO_DEMO_OUT (default out/demo),
-# CUBEAO_DEMO_SPP (reference rays per pixel, default 128), CUBEAO_DEMO_RES (probe face size, 128).
+# CUBEAO_DEMO_SPP (reference rays per pixel, default 256), CUBEAO_DEMO_RES (probe face size, 128),
+# CUBEAO_DEMO_PROBES (probe count, 12).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scene=${CUBEAO_DEMO_SCENE:-builtin:cloister}
 out=${CUBEAO_DEMO_OUT:-out/demo}
-spp=${CUBEAO_DEMO_SPP:-128}
+spp=${CUBEAO_DEMO_SPP:-256}
 res=${CUBEAO_DEMO_RES:-128}
+nprobes=${CUBEAO_DEMO_PROBES:-12}
 
 bash tools/install-deps.sh
 bash tools/build.sh --target cubeao
@@ -24,8 +26,8 @@ mkdir -p "$out"
 echo "== scene"
 "$bin" info "$scene" --json | tee "$out/info.log" | tail -1 >"$out/info.json"
 sed '$d' "$out/info.log"
-echo "== place: 4 probes along the camera path"
-"$bin" place "$scene" --budget 4 --out "$out/probes.json"
+echo "== place: $nprobes probes along the camera path"
+"$bin" place "$scene" --budget "$nprobes" --out "$out/probes.json"
 device=gpu
 for est in traced hsplit; do
   echo "== bake ($est, ${res}² per face, $device) into a probe cache, checked against the Embree twin at every texel"
@@ -36,57 +38,71 @@ for est in traced hsplit; do
     [ "$device" = gpu ] || exit 1
     echo "   (no usable OpenGL 4.5 context: baking on the CPU path instead)"
     device=cpu
+    rm -f "$cache"
     "${bake[@]}" --device "$device" >"$out/bake-$est.log"
   fi
   sed '$d' "$out/bake-$est.log"
   tail -1 "$out/bake-$est.log" >"$out/bake-$est.json"
   "$bin" info "$cache" --verify --json >"$out/bake-$est-info.log"
-  sed -n '/verify/p' "$out/bake-$est-info.log"
+  sed '$d' "$out/bake-$est-info.log" | sed -n '/verif/p'
   tail -1 "$out/bake-$est-info.log" >"$out/bake-$est-info.json"
 done
 oiiotool "$out/bake-traced-dump/probe_0001_cross.png" "$out/bake-hsplit-dump/probe_0001_cross.png" \
     --mosaic:pad=6 1x2 -o "$out/probe_cross.png"
+
+methods=(probes probes-hsplit gtao hbao alchemy)
+for m in "${methods[@]}"; do
+  echo "== render: $m"
+  case $m in
+    probes) args=(--method probes --cache "$out/bake-traced.cubeao") ;;
+    probes-hsplit) args=(--method probes --cache "$out/bake-hsplit.cubeao") ;;
+    *) args=(--method "$m") ;;
+  esac
+  "$bin" render "$scene" "${args[@]}" --out "$out/render-$m" --json | tail -1 >"$out/render-$m.json"
+done
 echo "== reference: $spp rays per pixel"
 "$bin" reference "$scene" --spp "$spp" --out "$out/reference" --json | tail -1 >"$out/reference.json"
-echo "== fast reference: 8 rays per pixel"
-"$bin" reference "$scene" --spp 8 --seed 1 --out "$out/reference-8spp" --json | tail -1 >"$out/reference-8spp.json"
-echo "== compare 8 spp against $spp spp"
-"$bin" compare "$out/reference-8spp" "$out/reference" --json | tee "$out/compare.log" | tail -1 >"$out/compare.json"
+for m in "${methods[@]}"; do
+  "$bin" compare "$out/render-$m" "$out/reference" --json | tail -1 >"$out/compare-$m.json"
+done
 
-# A picture: first, middle and last frame, 8 spp (left) next to the reference (right).
+# A picture: first, middle and last frame; reference | probes | gtao.
 frames=($(ls "$out/reference" | grep -E '^ao_[0-9]+\.png$' | sort))
 pick=("${frames[0]}" "${frames[$(( ${#frames[@]} / 2 ))]}" "${frames[-1]}")
 args=()
-for f in "${pick[@]}"; do args+=("$out/reference-8spp/$f" "$out/reference/$f"); done
-oiiotool "${args[@]}" --mosaic:pad=6 "2x${#pick[@]}" -o "$out/side_by_side.png"
+for f in "${pick[@]}"; do args+=("$out/reference/$f" "$out/render-probes/$f" "$out/render-gtao/$f"); done
+oiiotool "${args[@]}" --mosaic:pad=6 "3x${#pick[@]}" -o "$out/side_by_side.png"
 
-python3 - "$out" <<'PY'
+python3 - "$out" "${methods[@]}" <<'PY'
 import json, sys, os
-out = sys.argv[1]
+out, methods = sys.argv[1], sys.argv[2:]
 load = lambda n: json.load(open(os.path.join(out, n)))
-info, ref, fast, cmp = load("info.json"), load("reference.json"), load("reference-8spp.json"), load("compare.json")
+info, ref = load("info.json"), load("reference.json")
 bakes = {est: load(f"bake-{est}.json") for est in ("traced", "hsplit")}
 caches = {est: load(f"bake-{est}-info.json") for est in ("traced", "hsplit")}
-report = {"scene": info, "bake": bakes, "cache": caches, "reference": ref, "reference_8spp": fast, "compare_8spp_vs_reference": cmp,
+renders = {m: load(f"render-{m}.json") for m in methods}
+compares = {m: load(f"compare-{m}.json") for m in methods}
+report = {"scene": info, "bake": bakes, "cache": caches, "render": renders, "compare": compares, "reference": ref,
           "images": {"side_by_side": os.path.join(out, "side_by_side.png"),
-                     "probe_cross": os.path.join(out, "probe_cross.png"),
-                     "reference": ref["out"], "reference_8spp": fast["out"]}}
+                     "probe_cross": os.path.join(out, "probe_cross.png"), "reference": ref["out"]}}
 json.dump(report, open(os.path.join(out, "report.json"), "w"), indent=1)
 print()
 print(f"scene      {info['scene']}: {info['triangles']} triangles, AO radius {ref['radius']:.3f}")
 print(f"reference  {len(ref['frames'])} frames {ref['width']}x{ref['height']}, {ref['spp']} spp, "
-      f"{ref['rays_per_s']/1e6:.1f} Mrays/s, noise (mean std. error) {ref['noise']:.4f}")
+      f"noise (mean std. error) {ref['noise']:.4f}: part of every MAE below")
 print()
 where = bakes['traced'].get('renderer', 'CPU path, Embree')
-print(f"{'bake':<10}{'probes':>7}{'ms/probe':>10}{'verify_mae':>12}{'AO PSNR':>9}{'B/texel':>9}   ({where}; verify_mae: against the Embree twin, same rays;")
-print(f"{'':<57}AO PSNR: BC5 in the cache against the uncompressed AO)")
+print(f"{'bake':<10}{'probes':>7}{'ms/probe':>10}{'verify_mae':>12}{'AO PSNR':>9}{'B/texel':>9}   ({where})")
 for est, b in bakes.items():
     print(f"{est:<10}{b['probes']:>7}{b['ms_per_probe']:>10.0f}{b['verify_mae']:>12.4f}{b['ao_psnr']:>9.1f}{caches[est]['bytes_per_texel']:>9.3f}")
 print()
-print(f"{'method':<22}{'MAE':>8}{'RMSE':>8}{'SSIM':>8}{'flicker':>9}   (against the {ref['spp']}-spp reference)")
-print(f"{'reference 8 spp':<22}{cmp['mae']:>8.4f}{cmp['rmse']:>8.4f}{cmp['ssim']:>8.4f}{cmp['flicker']:>9.4f}")
+print(f"{'method':<15}{'MAE':>8}{'SSIM':>8}{'flicker':>9}{'AO ms':>8}{'uncovered':>11}   (against the reference)")
+for m in methods:
+    c, r = compares[m], renders[m]
+    unc = f"{100 * r['uncovered_fraction']:.1f} %" if 'uncovered_fraction' in r else "-"
+    print(f"{m:<15}{c['mae']:>8.4f}{c['ssim']:>8.4f}{c['flicker']:>9.4f}{r['timings_ms']['ao']:>8.1f}{unc:>11}")
 print()
 print(f"report  {os.path.join(out, 'report.json')}")
-print(f"picture {os.path.join(out, 'side_by_side.png')}  (left 8 spp, right reference)")
+print(f"picture {os.path.join(out, 'side_by_side.png')}  (rows: first, middle, last frame; reference | probes | gtao)")
 print(f"probe   {os.path.join(out, 'probe_cross.png')}  (probe 1 unfolded: traced above, horizon-split below)")
 PY

@@ -148,7 +148,7 @@ void run(const RenderArgs& a) {
 
     const gl::HeadlessContext context = gl::HeadlessContext::create();
     spdlog::info("render: {} ({} triangles), {} frames {}:{} at {}x{}, R = {}, on {}", scene.source,
-                 scene.triangleCount(), ssaoMethodName(ssao.method), range.begin, range.end, w, h, ssao.radius,
+                 scene.triangleCount(), a.method, range.begin, range.end, w, h, ssao.radius,
                  context.renderer());
     CompositeSettings composite;
     composite.alpha = a.alpha;
