@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cubeao/cache/cache_file.h"
+#include "cli_run.h"
 #include "test_util.h"
 
 namespace {
@@ -20,29 +21,10 @@ namespace {
 namespace fs = std::filesystem;
 using cubeao::test::TempDir;
 
-struct CliRun {
-    int code = -1;
-    std::string out;
-};
+using cubeao::test::CliRun;
+using cubeao::test::lastLine;
 
-// Runs the binary; `out` is its stdout, followed by its stderr when withStderr.
-CliRun run(const std::string& args, bool withStderr = false) {
-    const std::string cmd = std::string(CUBEAO_BINARY) + " " + args + (withStderr ? " 2>&1" : " 2>/dev/null");
-    CliRun r;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return r;
-    std::array<char, 4096> buf{};
-    while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
-    const int status = pclose(p);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
-nlohmann::json lastLine(const std::string& out) {
-    std::string s = out;
-    while (!s.empty() && s.back() == '\n') s.pop_back();
-    return nlohmann::json::parse(s.substr(s.rfind('\n') + 1));
-}
+CliRun run(const std::string& args, bool withStderr = false) { return cubeao::test::runCli(args, withStderr); }
 
 TEST(Cli, InfoJsonFields) {
     const CliRun r = run("info builtin:cloister --json");

@@ -28,6 +28,7 @@
 #include "cubeao/scene/builtin.h"
 #include "cubeao/ssao/ssao_pass.h"
 #include "gl_fixture.h"
+#include "cli_run.h"
 #include "test_util.h"
 
 namespace {
@@ -394,28 +395,9 @@ TEST_F(RuntimeGl, CompositeFollowsTheFormula) {
 
 // ---- the CLI -------------------------------------------------------------------------------------
 
-struct CliRun {
-    int code = -1;
-    std::string out;
-};
-
-CliRun runCli(const std::string& args) {
-    const std::string cmd = std::string(CUBEAO_BINARY) + " " + args + " 2>/dev/null";
-    CliRun r;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return r;
-    std::array<char, 4096> buf{};
-    while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
-    const int status = pclose(p);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
-nlohmann::json lastLine(const std::string& out) {
-    std::string s = out;
-    while (!s.empty() && s.back() == '\n') s.pop_back();
-    return nlohmann::json::parse(s.substr(s.rfind('\n') + 1));
-}
+using test::CliRun;
+using test::lastLine;
+using test::runCli;
 
 TEST(RenderCli, UsageErrors) {
     TempDir dir;

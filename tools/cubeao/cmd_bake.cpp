@@ -11,6 +11,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "cubeao/bake/bake.h"
 #include "cubeao/bake/bake_cache.h"
@@ -89,12 +90,6 @@ nlohmann::json settingsJson(const BakeSettings& s) {
             {"hybrid_threshold", s.hybridThreshold},
             {"depth_res", s.depthRes},
             {"depth_format", depthFormatName(s.depthFormat)}};
-}
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
 // Per-run sums and medians for the JSON report.

@@ -10,6 +10,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "cubeao/bake/bake.h"
 #include "cubeao/bake/gpu_bake.h"
@@ -27,12 +28,6 @@ struct BenchArgs {
     int res = 512, spp = 64, probes = 2;
     bool json = false;
 };
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 // Probes where a person walks: camera positions spread evenly along the scene's path.
 std::vector<glm::vec3> probePositions(const std::string& scene, const std::string& camera, int count) {

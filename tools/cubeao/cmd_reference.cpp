@@ -6,6 +6,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "cubeao/core/error.h"
 #include "cubeao/core/progress.h"
@@ -27,21 +28,6 @@ struct ReferenceArgs {
     bool json = false;
 };
 
-// --width/--height: either, both or neither; the missing one keeps the camera file's aspect.
-void resolveSize(const ReferenceArgs& a, const CameraPath& path, int& w, int& h) {
-    w = a.width, h = a.height;
-    if (w < 0 || h < 0) throw UsageError("--width and --height must be positive");
-    if (!w && !h) w = path.width, h = path.height;
-    if (!w) w = std::max(1, int(std::lround(double(h) * path.width / path.height)));
-    if (!h) h = std::max(1, int(std::lround(double(w) * path.height / path.width)));
-}
-
-std::string frameName(std::size_t index, const char* ext) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "ao_%04zu.%s", index, ext);
-    return buf;
-}
-
 void run(const ReferenceArgs& a) {
     const Scene scene = loadScene(a.scene);
     const CameraPath path = resolveCameraPath(a.camera, a.scene);
@@ -50,7 +36,7 @@ void run(const ReferenceArgs& a) {
     const AoSettings settings{a.radius > 0.0f ? a.radius : scene.defaultRadius(), a.spp, parseFalloff(a.falloff),
                               a.seed};
     int w = 0, h = 0;
-    resolveSize(a, path, w, h);
+    resolveImageSize(a.width, a.height, path, w, h);
     fs::create_directories(a.out);
 
     spdlog::info("reference: {} ({} triangles), frames {}:{} at {}x{}, {} spp, R = {}", scene.source,
@@ -71,9 +57,9 @@ void run(const ReferenceArgs& a) {
         traceSeconds += secs;
         rays += frame.aoRays + std::uint64_t(w) * std::uint64_t(h);
         noiseSum += frame.noise;
-        const fs::path exr = fs::path(a.out) / frameName(f, "exr");
+        const fs::path exr = fs::path(a.out) / frameName("ao", f, "exr");
         writeExr(exr, frame.ao);
-        writePng(fs::path(a.out) / frameName(f, "png"), frame.ao);
+        writePng(fs::path(a.out) / frameName("ao", f, "png"), frame.ao);
         frames.push_back({{"index", f}, {"file", exr.string()}, {"noise", frame.noise},
                           {"background_fraction", frame.backgroundFraction}, {"seconds", secs}});
     }

@@ -11,6 +11,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/runtime/probe_projection.h"
@@ -36,29 +37,6 @@ struct RenderArgs {
     std::uint32_t seed = 0;
     bool json = false;
 };
-
-// --width/--height: either, both or neither; the missing one keeps the camera file's aspect
-// (as `cubeao reference`, so the two write images of the same size).
-void resolveSize(const RenderArgs& a, const CameraPath& path, int& w, int& h) {
-    w = a.width, h = a.height;
-    if (w < 0 || h < 0) throw UsageError("--width and --height must be positive");
-    if (!w && !h) w = path.width, h = path.height;
-    if (!w) w = std::max(1, int(std::lround(double(h) * path.width / path.height)));
-    if (!h) h = std::max(1, int(std::lround(double(w) * path.height / path.width)));
-}
-
-std::string frameName(const char* prefix, std::size_t index, const char* ext) {
-    char buf[48];
-    std::snprintf(buf, sizeof buf, "%s_%04zu.%s", prefix, index, ext);
-    return buf;
-}
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // Every problem with the method choice is a usage error, found before any file is read. `probes`
 // keeps gtao's settings for the JSON fields it shares with the baselines.
@@ -143,7 +121,7 @@ void run(const RenderArgs& a) {
     }
     const SsaoSettings ssao = resolveSsaoSettings(settings.ssao, scene.defaultRadius());
     int w = 0, h = 0;
-    resolveSize(a, path, w, h);
+    resolveImageSize(a.width, a.height, path, w, h);
     fs::create_directories(a.out);
 
     const gl::HeadlessContext context = gl::HeadlessContext::create();
