@@ -29,6 +29,7 @@
 #include "cubeao/ssao/ssao_pass.h"
 #include "gl_fixture.h"
 #include "cli_run.h"
+#include "cubeao/metrics/image_io.h"
 #include "test_util.h"
 
 namespace {
@@ -430,6 +431,35 @@ TEST_F(RuntimeGl, RenderProbesFromABakedCacheAndRefuseAnotherScenesCache) {
                      (dir.path() / "wrong").string()).code, 1);
     EXPECT_EQ(runCli("render builtin:box-room --method probes --cache " + cache.string() + " --radius 0.3 --out " +
                      (dir.path() / "radius").string()).code, 2) << "the probes carry their own R";
+}
+
+// Issue 6: "box room, one probe: render vs reference within a stated MAE". One traced probe in the
+// middle of the room at R = 1 (so that AO matters), 3 frames of the room's walk. Measured: MAE 0.043,
+// 8 % of the pixels uncovered (hidden from the probe behind the furniture; they fall back to open,
+// which is most of the error), against an all-open image's MAE that the test computes. Bounds: MAE
+// ≤ 0.06, uncovered ≤ 0.15, and clearly better than claiming everything open (that MAE is 0.115).
+TEST_F(RuntimeGl, RenderOneProbeInTheBoxRoomAgainstTheReference) {
+    TempDir dir;
+    const std::string probes = dir.write("probes.json", R"({"version":1,"probes":[{"pos":[4,1.5,3]}]})");
+    const fs::path cache = dir.path() / "c.cubeao", render = dir.path() / "render", reference = dir.path() / "reference";
+    ASSERT_EQ(runCli("bake builtin:box-room --probes " + probes + " --out " + cache.string() +
+                     " --res 32 --spp 128 --radius 1 --device cpu").code, 0);
+    const std::string frames = " --frames 0:3 --width 96 --height 54";
+    const CliRun r = runCli("render builtin:box-room --method probes --cache " + cache.string() + frames + " --out " +
+                            render.string() + " --json");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_LE(lastLine(r.out)["uncovered_fraction"].get<double>(), 0.15);
+    ASSERT_EQ(runCli("reference builtin:box-room --spp 256 --radius 1" + frames + " --out " + reference.string()).code, 0);
+    const CliRun c = runCli("compare " + render.string() + " " + reference.string() + " --json");
+    ASSERT_EQ(c.code, 0) << c.out;
+    const double mae = lastLine(c.out)["mae"].get<double>();
+    double open = 0.0;
+    for (int f = 0; f < 3; ++f) {
+        const Image ref = readImage(reference / ("ao_000" + std::to_string(f) + ".exr"));
+        for (float v : ref.pixels) open += (1.0 - v) / double(ref.pixels.size() * 3);
+    }
+    EXPECT_LE(mae, 0.06);
+    EXPECT_LT(mae, 0.7 * open) << "all-open MAE " << open;
 }
 
 TEST_F(RuntimeGl, RenderCliWritesFramesThatCompareWithTheReference) {
