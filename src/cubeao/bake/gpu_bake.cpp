@@ -13,6 +13,7 @@
 #include "cubeao/bake/gpu_bvh.h"
 #include "cubeao/bake/gpu_depth.h"
 #include "cubeao/core/error.h"
+#include "cubeao/gl/gpu_mesh.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/shader.h"
 #include "cubeao/gl/timer.h"
@@ -31,13 +32,12 @@ GLuint groups(std::size_t n, GLuint size) { return GLuint((n + size - 1) / size)
 }  // namespace
 
 struct GpuBaker::Impl {
-    std::size_t triangles = 0;
     float zNear = 0.0f, surfaceEpsilon = 0.0f;
     GBufferMode mode = GBufferMode::Layered;
     BakeReadback readback = BakeReadback::Encoded;
 
-    gl::Buffer positions, indices, triangleNormals, aoBuffer, texelList, fetchCount;
-    gl::VertexArray vao;
+    std::unique_ptr<gl::GpuMesh> mesh;  // positions, indices, per-triangle normals
+    gl::Buffer aoBuffer, texelList, fetchCount;
     gl::Texture gbuffer, depth;
     gl::Framebuffer framebuffer;
     gl::Program layered, sixPass, horizon, traced, tracedList, select;
@@ -60,32 +60,11 @@ struct GpuBaker::Impl {
 GpuBaker::GpuBaker(const Scene& scene, const BakeSettings& settings) : impl_(std::make_unique<Impl>()), settings_(settings) {
     Impl& m = *impl_;
     const int res = settings.res;
-    m.triangles = scene.indices.size() / 3;
     m.surfaceEpsilon = surfaceEpsilonFor(scene);
     // Anything nearer the probe than zNear is clipped: keep it far below a texel's footprint.
     m.zNear = std::max(1e-6f, 1e-6f * glm::length(scene.bounds.max - scene.bounds.min));
 
-    // Mesh: positions + indices for rasterisation, one geometric normal per triangle (gl_PrimitiveID).
-    std::vector<glm::vec4> normals(m.triangles);
-    for (std::size_t t = 0; t < m.triangles; ++t) {
-        const glm::vec3 a = scene.positions[scene.indices[3 * t]], b = scene.positions[scene.indices[3 * t + 1]],
-                        c = scene.positions[scene.indices[3 * t + 2]];
-        const glm::vec3 n = glm::cross(b - a, c - a);
-        const float len = glm::length(n);
-        normals[t] = glm::vec4(len > 0.0f ? n / len : glm::vec3(0.0f, 1.0f, 0.0f), 0.0f);
-    }
-    m.positions = gl::Buffer::create();
-    glNamedBufferStorage(m.positions.id(), GLsizeiptr(scene.positions.size() * sizeof(glm::vec3)), scene.positions.data(), 0);
-    m.indices = gl::Buffer::create();
-    glNamedBufferStorage(m.indices.id(), GLsizeiptr(scene.indices.size() * sizeof(std::uint32_t)), scene.indices.data(), 0);
-    m.triangleNormals = gl::Buffer::create();
-    glNamedBufferStorage(m.triangleNormals.id(), GLsizeiptr(normals.size() * sizeof(glm::vec4)), normals.data(), 0);
-    m.vao = gl::VertexArray::create();
-    glVertexArrayVertexBuffer(m.vao.id(), 0, m.positions.id(), 0, sizeof(glm::vec3));
-    glVertexArrayAttribFormat(m.vao.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribBinding(m.vao.id(), 0, 0);
-    glEnableVertexArrayAttrib(m.vao.id(), 0);
-    glVertexArrayElementBuffer(m.vao.id(), m.indices.id());
+    m.mesh = std::make_unique<gl::GpuMesh>(scene.positions, scene.indices);
 
     // G-buffer: (normal, distance) as RGBA32F, reversed-Z float depth; six layers = six faces.
     m.gbuffer = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
@@ -138,9 +117,8 @@ void GpuBaker::Impl::renderGBuffer(const glm::vec3& probe, int res) {
     glDisable(GL_CULL_FACE);  // architecture is open and two-sided
     glViewport(0, 0, res, res);
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
-    glBindVertexArray(vao.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, triangleNormals.id());
-    const auto draw = [&] { glDrawElements(GL_TRIANGLES, GLsizei(3 * triangles), GL_UNSIGNED_INT, nullptr); };
+    mesh->bind(0);
+    const auto draw = [&] { mesh->draw(); };
 
     if (mode == GBufferMode::Layered) {
         glNamedFramebufferTexture(framebuffer.id(), GL_COLOR_ATTACHMENT0, gbuffer.id(), 0);

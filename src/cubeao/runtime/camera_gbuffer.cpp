@@ -9,31 +9,8 @@
 
 namespace cubeao {
 
-CameraGBuffer::CameraGBuffer(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices) {
-    if (indices.size() % 3 != 0) throw Error("CameraGBuffer: index count is not a multiple of 3");
-    triangles_ = indices.size() / 3;
-    // One geometric normal per triangle, looked up by gl_PrimitiveID (as the bake's cube G-buffer).
-    std::vector<glm::vec4> normals(triangles_);
-    for (std::size_t t = 0; t < triangles_; ++t) {
-        const glm::vec3 a = positions[indices[3 * t]], b = positions[indices[3 * t + 1]], c = positions[indices[3 * t + 2]];
-        const glm::vec3 n = glm::cross(b - a, c - a);
-        const float len = glm::length(n);
-        normals[t] = glm::vec4(len > 0.0f ? n / len : glm::vec3(0.0f, 1.0f, 0.0f), 0.0f);
-    }
-    // Zero-sized buffers are not allowed: keep one dummy element for an empty mesh.
-    const auto bytes = [](std::size_t n, std::size_t size) { return GLsizeiptr(std::max<std::size_t>(n, 1) * size); };
-    positions_ = gl::Buffer::create();
-    glNamedBufferStorage(positions_.id(), bytes(positions.size(), sizeof(glm::vec3)), positions.empty() ? nullptr : positions.data(), 0);
-    indices_ = gl::Buffer::create();
-    glNamedBufferStorage(indices_.id(), bytes(indices.size(), sizeof(std::uint32_t)), indices.empty() ? nullptr : indices.data(), 0);
-    triangleNormals_ = gl::Buffer::create();
-    glNamedBufferStorage(triangleNormals_.id(), bytes(normals.size(), sizeof(glm::vec4)), normals.empty() ? nullptr : normals.data(), 0);
-    vao_ = gl::VertexArray::create();
-    glVertexArrayVertexBuffer(vao_.id(), 0, positions_.id(), 0, sizeof(glm::vec3));
-    glVertexArrayAttribFormat(vao_.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribBinding(vao_.id(), 0, 0);
-    glEnableVertexArrayAttrib(vao_.id(), 0);
-    glVertexArrayElementBuffer(vao_.id(), indices_.id());
+CameraGBuffer::CameraGBuffer(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices)
+    : mesh_(positions, indices) {
     program_ = gl::compileRenderProgram("runtime/gbuffer.vert", "runtime/gbuffer.frag");
 }
 
@@ -91,9 +68,8 @@ void CameraGBuffer::render(const CameraView& view) {
                               glm::value_ptr(clip));
     glProgramUniformMatrix3fv(program_.id(), glGetUniformLocation(program_.id(), "viewFromWorldRotation"), 1,
                               GL_FALSE, glm::value_ptr(rotation));
-    glBindVertexArray(vao_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, triangleNormals_.id());
-    if (triangles_ > 0) glDrawElements(GL_TRIANGLES, GLsizei(3 * triangles_), GL_UNSIGNED_INT, nullptr);
+    mesh_.bind(0);
+    mesh_.draw();
 
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glClipControl(GLenum(oldOrigin), GLenum(oldDepthMode));

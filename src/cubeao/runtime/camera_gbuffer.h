@@ -16,6 +16,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "cubeao/gl/gpu_mesh.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/runtime/camera_view.h"
 
@@ -52,9 +53,7 @@ public:
 private:
     void resize(int width, int height);
 
-    std::size_t triangles_ = 0;
-    gl::Buffer positions_, indices_, triangleNormals_;
-    gl::VertexArray vao_;
+    gl::GpuMesh mesh_;
     gl::Program program_;
     gl::Texture depth_, normal_;
     gl::Renderbuffer zBuffer_;
