@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 struct ReferenceArgs {
     std::string scene, camera, out, frames, falloff = "none";
-    int spp = 64, width = 0, height = 0;
+    int spp = 64, replicas = 2, width = 0, height = 0;
     float radius = 0.0f;
     std::uint32_t seed = 0;
     bool json = false;
@@ -39,8 +39,10 @@ void run(const ReferenceArgs& a) {
     resolveImageSize(a.width, a.height, path, w, h);
     fs::create_directories(a.out);
 
-    spdlog::info("reference: {} ({} triangles), frames {}:{} at {}x{}, {} spp, R = {}", scene.source,
-                 scene.triangleCount(), range.begin, range.end, w, h, settings.spp, settings.radius);
+    if (a.spp % a.replicas != 0)
+        throw UsageError("--replicas " + std::to_string(a.replicas) + " must divide --spp " + std::to_string(a.spp));
+    spdlog::info("reference: {} ({} triangles), frames {}:{} at {}x{}, {} spp in {} replicas, R = {}", scene.source,
+                 scene.triangleCount(), range.begin, range.end, w, h, settings.spp, a.replicas, settings.radius);
     const auto t0 = std::chrono::steady_clock::now();
     const EmbreeScene rt(scene);
     const double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -52,7 +54,7 @@ void run(const ReferenceArgs& a) {
     for (std::size_t f = range.begin; f < range.end; ++f) {
         const auto start = std::chrono::steady_clock::now();
         const ReferenceFrame frame =
-            renderReferenceFrame(rt, PinholeCamera(path, f, w, h), settings, std::uint32_t(f), &progress);
+            renderReferenceFrame(rt, PinholeCamera(path, f, w, h), settings, std::uint32_t(f), &progress, a.replicas);
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         traceSeconds += secs;
         rays += frame.aoRays + std::uint64_t(w) * std::uint64_t(h);
@@ -69,6 +71,8 @@ void run(const ReferenceArgs& a) {
                              {"triangles", scene.triangleCount()},
                              {"radius", settings.radius},
                              {"spp", settings.spp},
+                             {"replicas", a.replicas},
+                             {"noise_estimate", a.replicas > 1 ? "replicas" : "independent_rays_bound"},
                              {"falloff", falloffName(settings.falloff)},
                              {"seed", settings.seed},
                              {"width", w},
@@ -81,7 +85,7 @@ void run(const ReferenceArgs& a) {
                              {"trace_s", traceSeconds},
                              {"out", a.out}};
     std::ofstream(fs::path(a.out) / "reference.json") << result.dump(1) << '\n';
-    std::printf("reference: %zu frames -> %s, %.2f Mrays/s, mean noise (std. error) %.4f\n", range.size(),
+    std::printf("reference: %zu frames -> %s, %.2f Mrays/s, noise (std. error) %.4f\n", range.size(),
                 a.out.c_str(), raysPerSecond * 1e-6, noiseSum / double(range.size()));
     if (a.json) printJson(result);
 }
@@ -95,6 +99,11 @@ void addReference(CLI::App& app) {
     cmd->add_option("--camera", a->camera, "Camera path JSON (default for built-in scenes: their own path)");
     cmd->add_option("--out", a->out, "Output directory for ao_NNNN.exr/.png and reference.json")->required();
     cmd->add_option("--spp", a->spp, "AO rays per pixel")->capture_default_str()->check(CLI::PositiveNumber);
+    cmd->add_option("--replicas", a->replicas,
+                    "Split each pixel's rays into this many independently rotated sets; their spread measures "
+                    "the noise (1: report the independent-ray bound instead). Must divide --spp")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--radius", a->radius, "AO radius R in scene units (default: 2% of the bbox diagonal)");
     cmd->add_option("--falloff", a->falloff, "none | smooth")->capture_default_str();
     cmd->add_option("--frames", a->frames, "Half-open frame range A:B (default: all)");

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "cubeao/core/error.h"
 #include "cubeao/core/progress.h"
@@ -51,16 +52,22 @@ AoEstimate ambientOcclusion(const EmbreeScene& scene, const glm::vec3& p, const 
 }
 
 ReferenceFrame renderReferenceFrame(const EmbreeScene& scene, const PinholeCamera& cam, const AoSettings& settings,
-                                    std::uint32_t frameIndex, Progress* progress) {
+                                    std::uint32_t frameIndex, Progress* progress, int replicas) {
     if (settings.spp < 1) throw UsageError("--spp must be at least 1");
     if (!(settings.radius > 0.0f)) throw UsageError("--radius must be positive");
+    if (replicas < 1 || settings.spp % replicas != 0)
+        throw UsageError("--replicas " + std::to_string(replicas) + ": must be at least 1 and divide --spp " +
+                         std::to_string(settings.spp));
     ReferenceFrame out;
     out.ao.width = cam.width;
     out.ao.height = cam.height;
     out.ao.pixels.assign(std::size_t(cam.width) * std::size_t(cam.height), 1.0f);
-    std::vector<float> stdErr(out.ao.pixels.size(), 0.0f);
+    // Per pixel: the independent-ray standard error (1 replica) or the variance of the mean (≥ 2).
+    std::vector<float> spread(out.ao.pixels.size(), 0.0f);
     tbb::combinable<std::uint64_t> background([] { return std::uint64_t(0); });
     const std::uint32_t frameKey = frameIndex ^ settings.seed;
+    AoSettings perReplica = settings;
+    perReplica.spp = settings.spp / replicas;
 
     tbb::parallel_for(tbb::blocked_range2d<int>(0, cam.height, 8, 0, cam.width, 8), [&](const auto& r) {
         for (int y = r.rows().begin(); y < r.rows().end(); ++y)
@@ -74,19 +81,35 @@ ReferenceFrame renderReferenceFrame(const EmbreeScene& scene, const PinholeCamer
                 }
                 // Open architecture is two-sided: evaluate the side the camera sees.
                 const glm::vec3 n = glm::dot(hit.normal, dir) > 0.0f ? -hit.normal : hit.normal;
-                const AoEstimate e = ambientOcclusion(scene, cam.eye + hit.t * dir, n, settings,
-                                                      sampling::hashKey(std::uint32_t(x), std::uint32_t(y), frameKey));
-                out.ao.pixels[i] = e.ao;
-                stdErr[i] = e.stdError;
+                const glm::vec3 p = cam.eye + hit.t * dir;
+                const std::uint32_t key = sampling::hashKey(std::uint32_t(x), std::uint32_t(y), frameKey);
+                if (replicas == 1) {
+                    const AoEstimate e = ambientOcclusion(scene, p, n, settings, key);
+                    out.ao.pixels[i] = e.ao;
+                    spread[i] = e.stdError;
+                    continue;
+                }
+                double sum = 0.0, sumSq = 0.0;
+                for (int k = 0; k < replicas; ++k) {
+                    const std::uint32_t replicaKey = k == 0 ? key : sampling::hashKey(key, std::uint32_t(k), 0x5eedu);
+                    const double ao = ambientOcclusion(scene, p, n, perReplica, replicaKey).ao;
+                    sum += ao;
+                    sumSq += ao * ao;
+                }
+                const double mean = sum / replicas;
+                const double variance = std::max(0.0, (sumSq - sum * mean) / (replicas - 1));
+                out.ao.pixels[i] = float(mean);
+                spread[i] = float(variance / replicas);
             }
         if (progress) progress->advance(std::uint64_t(r.rows().size()) * std::uint64_t(r.cols().size()));
     });
 
     const std::uint64_t bg = background.combine(std::plus<>());
     const std::uint64_t pixels = out.ao.pixels.size();
-    double errSum = 0.0;
-    for (float e : stdErr) errSum += e;
-    out.noise = pixels > bg ? errSum / double(pixels - bg) : 0.0;  // over pixels that show geometry
+    double spreadSum = 0.0;
+    for (float e : spread) spreadSum += e;
+    const double meanSpread = pixels > bg ? spreadSum / double(pixels - bg) : 0.0;  // over pixels with geometry
+    out.noise = replicas == 1 ? meanSpread : std::sqrt(meanSpread);
     out.backgroundFraction = pixels ? double(bg) / double(pixels) : 0.0;
     out.aoRays = (pixels - bg) * std::uint64_t(settings.spp);
     return out;
