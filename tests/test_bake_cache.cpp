@@ -16,6 +16,7 @@
 #include "cubeao/cache/bc4.h"
 #include "cubeao/cache/depth_cube.h"
 #include "cubeao/scene/import.h"
+#include "bake_test_settings.h"
 #include "gl_fixture.h"
 #include "test_util.h"
 
@@ -23,6 +24,7 @@ namespace cubeao {
 namespace {
 
 namespace fs = std::filesystem;
+using test::bakeSettings;
 using test::contains;
 using test::errorMessage;
 using test::TempDir;
@@ -34,19 +36,10 @@ const Scene& boxRoom() {
     return scene;
 }
 
-BakeSettings settingsFor(Estimator e, int res, float radius, int spp = 16) {
-    BakeSettings s;
-    s.res = res;
-    s.estimator = e;
-    s.ao.radius = radius;
-    s.ao.spp = spp;
-    return resolveBakeSettings(s, radius);
-}
-
 // ---- settings → cache parameters ---------------------------------------------------------------
 
 TEST(BakeSettingsCache, ParametersKeepWhatTheEstimatorUses) {
-    BakeSettings s = settingsFor(Estimator::HorizonSplit, 16, 0.5f, 32);
+    BakeSettings s = bakeSettings(Estimator::HorizonSplit, 16, 0.5f, 32);
     EXPECT_EQ(s.depthRes, 4);
     EXPECT_EQ(s.depthFormat, DepthFormat::R16Unorm);
     CacheParams p = cacheParamsFor(s, 42);
@@ -94,7 +87,7 @@ TEST(BakeSettingsCache, ResolveChecksResolutionsAndDepthFormat) {
 TEST(BakeEncode, CpuBakeEncodesWhatItBakedAndMeetsFortyDecibels) {
     const EmbreeScene rt(boxRoom());
     for (const Estimator e : {Estimator::HorizonSplit, Estimator::Traced}) {
-        const BakeSettings s = settingsFor(e, 32, 1.0f, 64);
+        const BakeSettings s = bakeSettings(e, 32, 1.0f, 64);
         const BakedProbe p = bakeProbeCpu(rt, kBoxProbe, 3, s);
         std::vector<glm::vec2> aoConfidence(p.ao.size());
         for (std::size_t t = 0; t < p.ao.size(); ++t) aoConfidence[t] = {p.ao[t], p.confidence[t]};
@@ -140,7 +133,7 @@ TEST_F(BakeEncodeGl, GpuEncodersMatchTheCpuTwinOnTheSameBake) {
             for (const int depthRes : {0, 5}) {
                 SCOPED_TRACE(std::string(estimatorName(e)) + " " + depthFormatName(f) + " depthRes " +
                              std::to_string(depthRes));
-                BakeSettings s = settingsFor(e, 32, 1.0f);
+                BakeSettings s = bakeSettings(e, 32, 1.0f, 16);
                 s.depthFormat = f;
                 s.depthRes = depthRes == 0 ? s.depthRes : depthRes;
                 GpuBaker baker(boxRoom(), s);
@@ -153,7 +146,7 @@ TEST_F(BakeEncodeGl, GpuEncodersMatchTheCpuTwinOnTheSameBake) {
 }
 
 TEST_F(BakeEncodeGl, ProductionReadBackLeavesTheUncompressedProbeOnTheGpu) {
-    const BakeSettings s = settingsFor(Estimator::Gtao, 16, 1.0f);
+    const BakeSettings s = bakeSettings(Estimator::Gtao, 16, 1.0f, 16);
     GpuBaker baker(boxRoom(), s);
     const BakedProbe encoded = baker.bake(kBoxProbe, 1);  // default: BakeReadback::Encoded
     EXPECT_TRUE(encoded.gbuffer.texels.empty());
@@ -170,7 +163,7 @@ TEST_F(BakeEncodeGl, ProductionReadBackLeavesTheUncompressedProbeOnTheGpu) {
 // AO agrees up to grazing-ray flips; the distance cubes differ only where rasterisation and Embree
 // pick different triangles at an edge.
 TEST_F(BakeEncodeGl, GpuAndCpuBakesStoreTheSameProbeWithinTolerance) {
-    const BakeSettings s = settingsFor(Estimator::Traced, 16, 1.0f, 16);
+    const BakeSettings s = bakeSettings(Estimator::Traced, 16, 1.0f, 16);
     GpuBaker baker(boxRoom(), s);
     const EncodedProbe gpu = baker.bake(kBoxProbe, 2).encoded;
     const EncodedProbe cpu = bakeProbeCpu(EmbreeScene(boxRoom()), kBoxProbe, 2, s).encoded;

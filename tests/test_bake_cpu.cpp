@@ -17,10 +17,13 @@
 #include "cubeao/scene/repair.h"
 #include "scenes/builtin_scenes.h"
 #include "scenes/mesh_builder.h"
+#include "bake_test_settings.h"
 #include "test_util.h"
 
 namespace cubeao {
 namespace {
+
+using test::bakeSettings;
 
 constexpr double kPi = 3.14159265358979323846;
 const glm::vec3 kUp(0.0f, 1.0f, 0.0f);
@@ -67,18 +70,6 @@ const EmbreeScene& floorAndWall() {
         return finish(b, "floor-and-wall");
     }());
     return loaded.rt;
-}
-
-BakeSettings settingsFor(Estimator estimator, int res, float radius, int spp = 64, int directions = 0, int steps = 0) {
-    BakeSettings s;
-    s.res = res;
-    s.estimator = estimator;
-    s.ao.radius = radius;
-    s.ao.spp = spp;
-    s.directions = directions;
-    s.steps = steps;
-    s.device = BakeDevice::Cpu;
-    return resolveBakeSettings(s, radius);
 }
 
 struct TexelId {
@@ -187,7 +178,7 @@ TEST(CpuBakeGBuffer, EmptyTexelsAreOpenAndCountsAddUp) {
     const int res = 16;
     for (Estimator e : {Estimator::HorizonSplit, Estimator::Gtao, Estimator::Traced, Estimator::Hybrid}) {
         SCOPED_TRACE(estimatorName(e));
-        const BakeSettings s = settingsFor(e, res, 1.0f, 8, 4, 3);
+        const BakeSettings s = bakeSettings(e, res, 1.0f, 8, 4, 3);
         const BakedProbe b = bakeProbeCpu(openFloor(), probe, 0, s);
         std::uint64_t surface = 0;
         for (std::size_t index = 0; index < b.gbuffer.texelCount(); ++index) {
@@ -216,7 +207,7 @@ TEST(CpuBakeGBuffer, EmptyTexelsAreOpenAndCountsAddUp) {
 }
 
 TEST(CpuBakeGBuffer, ResultDoesNotDependOnTheThreadCount) {
-    const BakeSettings s = settingsFor(Estimator::Hybrid, 16, 0.5f, 16);
+    const BakeSettings s = bakeSettings(Estimator::Hybrid, 16, 0.5f, 16);
     const glm::vec3 probe(4.0f, 1.2f, 3.0f);
     const BakedProbe all = bakeProbeCpu(boxRoom(), probe, 3, s);
     BakedProbe one;
@@ -238,7 +229,7 @@ TEST(CpuBakeTraced, FloorUnderTheSphereMatchesTheClosedForm) {
     const float r = scenes::kSphereRadius, h = scenes::kSphereHeight;
     const glm::vec3 centre(0.0f, h, 0.0f);
     const glm::vec3 probe(2.2f, 0.6f, 0.3f);  // beside the sphere, near the floor, sees under it
-    const BakeSettings s = settingsFor(Estimator::Traced, 32, 2.0f, 1024);
+    const BakeSettings s = bakeSettings(Estimator::Traced, 32, 2.0f, 1024);
     const BakedProbe b = bakeProbeCpu(spherePlane(), probe, 5, s);
     const std::vector<std::size_t> near = texelsNear(b.gbuffer, glm::vec3(0.0f), kUp, 0.25f);
     ASSERT_GE(near.size(), 3u);
@@ -285,7 +276,7 @@ TEST(HorizonWall, HorizonEstimatorsMatchTheHeightFieldAnswer) {
     // 0.15 of p, 32 directions, res/steps: 64/16 mean +0.041 (max +0.050), 128/32 +0.018 (+0.029),
     // 256/64 +0.010 (+0.016). (A probe at H = 2R trades coverage for finer steps: 64/16 +0.023,
     // max +0.030.) Checked at 256² and 32 × 64, where 0.03 (brief) has a margin of 2.
-    const BakeSettings s = settingsFor(Estimator::HorizonSplit, 256, kWallRadius, 64, 32, 64);
+    const BakeSettings s = bakeSettings(Estimator::HorizonSplit, 256, kWallRadius, 64, 32, 64);
     const CubeGBuffer g = renderGBufferCpu(floorAndWall(), kWallProbe, s.res);
     const std::vector<std::size_t> near = texelsNear(g, kWallPoint, kUp, 0.15f);
     ASSERT_GE(near.size(), 100u);
@@ -315,7 +306,7 @@ TEST(HorizonWall, HorizonEstimatorsMatchTheHeightFieldAnswer) {
 // AO bias +0.158, 0.94 against 0.755 at the nearest texels); asking the probe about points above
 // each march point finds it (measured bias −0.001, 128², 32 × 32).
 TEST(HorizonWall, ObliqueProbeStillFindsTheHeightField) {
-    const BakeSettings s = settingsFor(Estimator::HorizonSplit, 128, kWallRadius, 64, 32, 32);
+    const BakeSettings s = bakeSettings(Estimator::HorizonSplit, 128, kWallRadius, 64, 32, 32);
     const glm::vec3 probe(2.0f, 1.5f, 1.2f);
     const CubeGBuffer g = renderGBufferCpu(floorAndWall(), probe, s.res);
     const std::vector<std::size_t> near = texelsNear(g, kWallPoint, kUp, 0.1f);
@@ -334,7 +325,7 @@ TEST(HorizonWall, ObliqueProbeStillFindsTheHeightField) {
 TEST(CpuBakeTraced, WallAndHybridMatchTheHeightFieldAnswer) {
     for (Estimator e : {Estimator::Traced, Estimator::Hybrid}) {
         SCOPED_TRACE(estimatorName(e));
-        const BakeSettings s = settingsFor(e, 64, kWallRadius, 256);
+        const BakeSettings s = bakeSettings(e, 64, kWallRadius, 256);
         const BakedProbe b = bakeProbeCpu(floorAndWall(), kWallProbe, 1, s);
         const std::vector<std::size_t> near = texelsNear(b.gbuffer, kWallPoint, kUp, 0.1f);
         ASSERT_GE(near.size(), 4u);
@@ -357,7 +348,7 @@ TEST(CpuBakeTraced, WallAndHybridMatchTheHeightFieldAnswer) {
 TEST(CpuBakeHorizon, BakedTexelsAreTheEstimatorWithTheTexelKey) {
     for (Estimator e : {Estimator::HorizonSplit, Estimator::Gtao, Estimator::Hybrid}) {
         SCOPED_TRACE(estimatorName(e));
-        BakeSettings s = settingsFor(e, 32, kWallRadius, 16);
+        BakeSettings s = bakeSettings(e, 32, kWallRadius, 16);
         s.ao.seed = 77;
         const BakedProbe b = bakeProbeCpu(floorAndWall(), kWallProbe, 9, s);
         for (std::size_t index = 0; index < b.ao.size(); index += 7) {
@@ -382,7 +373,7 @@ TEST(HorizonOpenPlane, FullyOpenWithConfidenceOne) {
     // tangent plane, and a plane hides nothing that could occlude a point of it.
     for (Estimator e : {Estimator::HorizonSplit, Estimator::Gtao}) {
         SCOPED_TRACE(estimatorName(e));
-        const BakeSettings s = settingsFor(e, 32, 1.0f);
+        const BakeSettings s = bakeSettings(e, 32, 1.0f, 64);
         const BakedProbe b = bakeProbeCpu(openFloor(), glm::vec3(0.2f, 1.5f, -0.4f), 2, s);
         // hsplit: exactly 1 (every sin² h is 0). GTAO: its 8 slices are a quadrature of the open
         // hemisphere's slice integral, exact only in the limit; its error is zero at normal view and
@@ -408,7 +399,7 @@ TEST(HorizonConfidence, MarchBehindAColumnIsHidden) {
     const glm::vec3 probe(0.0f, 1.5f, 3.0f);
     for (Estimator e : {Estimator::HorizonSplit, Estimator::Gtao, Estimator::Hybrid}) {
         SCOPED_TRACE(estimatorName(e));
-        const BakeSettings s = settingsFor(e, 64, 1.0f, 64);
+        const BakeSettings s = bakeSettings(e, 64, 1.0f, 64);
         const BakedProbe b = bakeProbeCpu(column.rt, probe, 4, s);
         const BakedProbe open = bakeProbeCpu(openFloor(), probe, 4, s);
         const std::size_t index = cube::texelIndex(-probe, s.res);  // the texel that sees p
@@ -449,7 +440,7 @@ TEST(HorizonSeams, FaceBordersLookLikeAnyOtherTexelStep) {
         return finish(b, "floor-and-back-wall");
     }());
     const int res = 64;
-    const BakeSettings s = settingsFor(Estimator::HorizonSplit, res, 1.0f, 64, 32, 32);
+    const BakeSettings s = bakeSettings(Estimator::HorizonSplit, res, 1.0f, 64, 32, 32);
     const CubeGBuffer g = renderGBufferCpu(scene.rt, glm::vec3(0.3f, 1.2f, 0.8f), res);
     std::vector<float> ao(g.texelCount(), 1.0f);
     for (std::size_t index = 0; index < g.texelCount(); ++index) {
@@ -493,7 +484,7 @@ TEST(HorizonSeams, FaceBordersLookLikeAnyOtherTexelStep) {
 }
 
 TEST(CpuBakeVerify, TracedBakeIsItsOwnReferenceExactly) {
-    const BakeSettings s = settingsFor(Estimator::Traced, 16, 0.5f, 16);
+    const BakeSettings s = bakeSettings(Estimator::Traced, 16, 0.5f, 16);
     const BakedProbe b = bakeProbeCpu(boxRoom(), glm::vec3(3.0f, 1.2f, 2.5f), 6, s);
     const VerifyResult v = verifyProbe(boxRoom(), b, 6, s);
     EXPECT_EQ(v.texels, 6u * 16u * 16u);  // a closed room: every texel sees a wall
@@ -507,7 +498,7 @@ TEST(CpuBakeVerify, HorizonSplitOnBoxRoomMeetsTheIssueTarget) {
         static const Scene s = makeBuiltinScene("builtin:box-room");
         return s;
     }();
-    const BakeSettings s = settingsFor(Estimator::HorizonSplit, 64, scene.defaultRadius(), 128);
+    const BakeSettings s = bakeSettings(Estimator::HorizonSplit, 64, scene.defaultRadius(), 128);
     const BakedProbe b = bakeProbeCpu(boxRoom(), glm::vec3(3.0f, 1.2f, 2.5f), 0, s);
     const VerifyResult v = verifyProbe(boxRoom(), b, 0, s);
     std::printf("box-room hsplit res %d, %d x %d, R %.3f: verify MAE %.4f over %llu texels\n", s.res, s.directions,
@@ -554,7 +545,7 @@ TEST(BakeImages, StackedImagesRoundTripBitExactInTheDocumentedLayout) {
 
     // A real bake too (the values a bake makes, not only labels).
     const BakedProbe baked = bakeProbeCpu(boxRoom(), glm::vec3(3.0f, 1.2f, 2.5f), 0,
-                                          settingsFor(Estimator::Hybrid, 16, 0.3f, 16));
+                                          bakeSettings(Estimator::Hybrid, 16, 0.3f, 16));
     writeProbeImages(dir.path(), 3, baked);
     const ProbeImages again = readProbeImages(dir.path(), 3);
     EXPECT_EQ(again.ao, baked.ao);
@@ -575,7 +566,7 @@ TEST(BakeImages, DumpWritesFacesAndCrosses) {
     const test::TempDir dir("bake-dump");
     const int res = 16;
     const BakedProbe b = bakeProbeCpu(spherePlane(), glm::vec3(2.2f, 0.6f, 0.3f), 0,
-                                      settingsFor(Estimator::HorizonSplit, res, 1.0f));
+                                      bakeSettings(Estimator::HorizonSplit, res, 1.0f, 64));
     dumpProbe(dir.path(), 0, b);
     for (int face = 0; face < cube::kFaces; ++face)
         for (const char* what : {"ao", "confidence", "distance"}) {

@@ -19,6 +19,7 @@
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/shader.h"
 #include "cubeao/scene/import.h"
+#include "bake_test_settings.h"
 #include "gl_fixture.h"
 #include "test_util.h"
 
@@ -26,15 +27,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace cubeao;
-
-BakeSettings settingsFor(Estimator e, int res, float radius, int spp = 32) {
-    BakeSettings s;
-    s.res = res;
-    s.estimator = e;
-    s.ao.radius = radius;
-    s.ao.spp = spp;
-    return resolveBakeSettings(s, radius);
-}
+using test::bakeSettings;
 
 const Scene& boxRoom() {
     static const Scene scene = loadScene("builtin:box-room");
@@ -87,7 +80,7 @@ void main() {
 
 TEST_F(GlTest, GBufferMatchesEmbreePrimaryRaysAndBothGpuModesAgree) {
     const Scene& scene = boxRoom();
-    const BakeSettings s = settingsFor(Estimator::HorizonSplit, 32, 0.5f);
+    const BakeSettings s = bakeSettings(Estimator::HorizonSplit, 32, 0.5f, 32);
     GpuBaker baker(scene, s);
     baker.setReadback(BakeReadback::All);
     const BakedProbe layered = baker.bake(kBoxProbe, 0);
@@ -118,7 +111,7 @@ TEST_F(GlTest, GBufferMatchesEmbreePrimaryRaysAndBothGpuModesAgree) {
 // pick neighbouring texels (rare, bounded by the per-texel difference allowed below).
 void expectHorizonTwin(Estimator e) {
     const Scene& scene = boxRoom();
-    const BakeSettings s = settingsFor(e, 32, 1.0f);
+    const BakeSettings s = bakeSettings(e, 32, 1.0f, 32);
     GpuBaker baker(scene, s);
     const CubeGBuffer g = renderGBufferCpu(EmbreeScene(scene), kBoxProbe, s.res);
     std::uint64_t gpuFetches = 0, cpuFetches = 0;
@@ -151,7 +144,7 @@ TEST_F(GlTest, HorizonSplitPassMatchesTheCppTwin) { expectHorizonTwin(Estimator:
 TEST_F(GlTest, GtaoPassMatchesTheCppTwin) { expectHorizonTwin(Estimator::Gtao); }
 
 void expectTracedTwin(const Scene& scene, const glm::vec3& probe, float radius, int res, int spp) {
-    const BakeSettings s = settingsFor(Estimator::Traced, res, radius, spp);
+    const BakeSettings s = bakeSettings(Estimator::Traced, res, radius, spp);
     GpuBaker baker(scene, s);
     baker.setReadback(BakeReadback::All);
     const BakedProbe baked = baker.bake(probe, 5);
@@ -173,7 +166,7 @@ TEST_F(GlTest, TracedPassMatchesEmbreeOnSibenik) {
 
 TEST_F(GlTest, HybridTracesExactlyTheLowConfidenceTexels) {
     const Scene& scene = boxRoom();
-    const BakeSettings hs = settingsFor(Estimator::HorizonSplit, 16, 1.0f, 16);
+    const BakeSettings hs = bakeSettings(Estimator::HorizonSplit, 16, 1.0f, 16);
     BakeSettings hy = hs;
     hy.estimator = Estimator::Hybrid;
     BakeSettings tr = hs;

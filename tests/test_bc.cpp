@@ -29,6 +29,7 @@
 #include "cubeao/gl/timer.h"
 #include "cubeao/reference/embree_scene.h"
 #include "cubeao/scene/builtin.h"
+#include "bake_test_settings.h"
 #include "gl_fixture.h"
 
 namespace cubeao {
@@ -337,12 +338,7 @@ TEST(BcBakedProbe, BoxRoomProbesMeetFortyDecibels) {
     const Scene scene = makeBuiltinScene("builtin:box-room");
     const EmbreeScene rt(scene);
     for (const Estimator estimator : {Estimator::HorizonSplit, Estimator::Traced}) {
-        BakeSettings s;
-        s.res = kRes;
-        s.estimator = estimator;
-        s.device = BakeDevice::Cpu;
-        s.ao.radius = 1.0f;
-        s = resolveBakeSettings(s, scene.defaultRadius());
+        const BakeSettings s = test::bakeSettings(estimator, kRes, 1.0f, 64);
         const BakedProbe probe = bakeProbeCpu(rt, glm::vec3(3.0f, 1.4f, 2.5f), 0, s);
         Cube cube(probe.ao.size());
         for (std::size_t t = 0; t < cube.size(); ++t) cube[t] = {probe.ao[t], probe.confidence[t]};
