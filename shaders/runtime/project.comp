@@ -12,8 +12,9 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = 0) uniform sampler2D depthTex;         // view depth, 0 = no geometry
 layout(binding = 1) uniform sampler2D normalTex;        // view-space normal facing the camera
-layout(binding = 2) uniform sampler2DArray aoTex;       // BC5: r = AO, g = confidence; layer 6·probe + face
-layout(binding = 3) uniform sampler2DArray distanceTex; // distance cube; value · scale = distance
+// Probe atlases (probe_projection.h ProbeAtlasLayout): a probe is a tile, layer 6·page + face.
+layout(binding = 2) uniform sampler2DArray aoTex;       // BC5: r = AO, g = confidence; res² tiles
+layout(binding = 3) uniform sampler2DArray distanceTex; // distance cube; value · scale = distance; depthRes² tiles
 layout(r32f, binding = 0) writeonly uniform image2D aoOut;
 
 layout(std430, binding = 5) readonly buffer Probes { vec4 probes[]; };  // xyz position, w distance scale
@@ -27,6 +28,8 @@ uniform ivec3 gridDims;
 uniform int candidatesPerCell;
 uniform int res;
 uniform int depthRes;
+uniform int tilesX;
+uniform int tilesPerPage;
 uniform float depthTolerance;
 uniform float depthSlope;
 uniform float minFacing;
@@ -34,6 +37,13 @@ uniform float minFacing;
 const float kMaxTan = 8.0;  // depth_cube.h kMaxTan
 
 shared uint groupUncovered, groupFetches;
+
+// Texel of direction sc on `face` of `probe` in an atlas of size² tiles.
+ivec3 atlasTexel(uint probe, int face, vec2 sc, int size) {
+    int tile = int(probe) % tilesPerPage;
+    ivec2 corner = ivec2(tile % tilesX, tile / tilesX) * size;
+    return ivec3(corner + cubeTexelOf(sc, size), 6 * (int(probe) / tilesPerPage) + face);
+}
 
 // depth_cube.h visible(): a point whose seen side faces away is hidden; an empty texel hides
 // nothing (the projection still skips it: the probe saw no surface there); relative plus
@@ -73,13 +83,12 @@ void main() {
                 float cosine = -dot(n, d) / dist;
                 vec2 sc;
                 int face = cubeFaceOf(d, sc);
-                float stored = texelFetch(distanceTex, ivec3(cubeTexelOf(sc, depthRes), 6 * int(probe) + face), 0).r *
-                               probes[probe].w;
+                float stored = texelFetch(distanceTex, atlasTexel(probe, face, sc, depthRes), 0).r * probes[probe].w;
                 fetches += 1u;
                 if (!depthVisible(stored, dist, cosine)) continue;
                 float r2 = 1.0 + dot(sc, sc), texel = 2.0 / float(res);
                 float area = texel * texel / (r2 * sqrt(r2)) * dist * dist / max(cosine, minFacing);
-                vec2 v = texelFetch(aoTex, ivec3(cubeTexelOf(sc, res), 6 * int(probe) + face), 0).rg;
+                vec2 v = texelFetch(aoTex, atlasTexel(probe, face, sc, res), 0).rg;
                 fetches += 1u;
                 vec2 r = vec2(v.g / area, v.r);
                 if (!(r.x > 0.0)) continue;

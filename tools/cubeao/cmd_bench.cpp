@@ -176,6 +176,7 @@ void addBench(CLI::App& app) {
     cmd->callback([a] { runBake(*a); });
     addBenchDepth(*bench);
     addBenchCache(*bench);
+    addBenchRender(*bench);
 }
 
 }  // namespace cubeao::cli

@@ -13,6 +13,7 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "render_setup.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/runtime/probe_projection.h"
 #include "cubeao/core/error.h"
@@ -50,16 +51,6 @@ SsaoMethod parseMethod(const RenderArgs& a) {
     return parseSsaoMethod(a.method);
 }
 
-nlohmann::json timingsJson(const std::vector<PassTimings>& t) {
-    std::vector<double> g, ao, blur, comp, read, total;
-    for (const PassTimings& p : t) {
-        g.push_back(p.gbuffer), ao.push_back(p.ao), blur.push_back(p.blur), comp.push_back(p.composite);
-        read.push_back(p.readback), total.push_back(p.gbuffer + p.ao + p.blur + p.composite);
-    }
-    return {{"gbuffer", median(g)}, {"ao", median(ao)},       {"blur", median(blur)},
-            {"composite", median(comp)}, {"readback", median(read)}, {"gpu_total", median(total)}};
-}
-
 struct PassSettings {
     SsaoSettings ssao;  // radius still 0 = scene default until the scene is loaded
     BlurSettings blur;
@@ -81,13 +72,6 @@ PassSettings usageChecked(const RenderArgs& a) {
     if (!a.cache.empty() && a.method != "probes")
         spdlog::warn("render: --cache is used only by --method probes; ignored for {}", a.method);
     return p;
-}
-
-// The method as a pass from the camera G-buffer to raw AO; blur and composite are shared. The probe
-// projection (--method probes, with --cache) becomes one more case here.
-std::unique_ptr<AoPass> makeAoPass(const SsaoSettings& ssao, const CacheReader* cache, const Scene& scene) {
-    if (cache) return std::make_unique<ProbeProjectionPass>(*cache, scene.bounds.min, scene.bounds.max);
-    return std::make_unique<SsaoPass>(ssao);
 }
 
 // Writes ao_NNNN.exr/.png and shaded_NNNN.png of frame f; returns its entry of "frames".
@@ -128,9 +112,7 @@ void run(const RenderArgs& a) {
     spdlog::info("render: {} ({} triangles), {} frames {}:{} at {}x{}, R = {}, on {}", scene.source,
                  scene.triangleCount(), a.method, range.begin, range.end, w, h, ssao.radius,
                  context.renderer());
-    CompositeSettings composite;
-    composite.alpha = a.alpha;
-    composite.lightDirection = defaultLightDirection(scene.up);
+    const CompositeSettings composite = compositeFor(scene, a.alpha);
     FrameRenderer renderer(scene.positions, scene.indices, makeAoPass(ssao, cache.get(), scene), settings.blur, composite);
     auto* projection = dynamic_cast<ProbeProjectionPass*>(&renderer.method());
     double uncovered = 0.0;
@@ -140,8 +122,7 @@ void run(const RenderArgs& a) {
     double fetches = 0.0;
     Progress progress("render", range.size());
     for (std::size_t f = range.begin; f < range.end; ++f) {
-        const RenderedFrame frame =
-            renderer.render(CameraView::fromPinhole(PinholeCamera(path, f, w, h), path.nearPlane), std::uint32_t(f));
+        const RenderedFrame frame = renderer.render(frameView(path, f, w, h), std::uint32_t(f));
         fetches += renderer.method().fetchesPerPixel();
         if (projection) uncovered += projection->uncoveredFraction();
         timings.push_back(frame.timings);

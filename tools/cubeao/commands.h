@@ -19,6 +19,7 @@ void addRender(CLI::App& app);
 // `bench` subcommands in files of their own, registered by addBench on the `bench` subcommand.
 void addBenchDepth(CLI::App& bench);
 void addBenchCache(CLI::App& bench);
+void addBenchRender(CLI::App& bench);
 
 // Prints `j` compactly on one line to stdout (the last line a --json command prints).
 void printJson(const nlohmann::json& j);

@@ -1,5 +1,8 @@
 #include "cubeao/runtime/probe_projection.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/vec4.hpp>
@@ -19,7 +22,27 @@ GLenum depthType(DepthFormat f) {
     return f == DepthFormat::R16Unorm ? GL_UNSIGNED_SHORT : f == DepthFormat::R16Float ? GL_HALF_FLOAT : GL_FLOAT;
 }
 
+GLint glInteger(GLenum name) {
+    GLint v = 0;
+    glGetIntegerv(name, &v);
+    return v;
+}
+
 }  // namespace
+
+ProbeAtlasLayout probeAtlasLayout(std::size_t probes, int res, int maxTextureSize, int maxLayers) {
+    const std::size_t perSide = std::size_t(std::max(1, maxTextureSize / std::max(res, 1)));
+    const std::size_t n = std::max<std::size_t>(probes, 1);
+    const std::size_t x = std::min(perSide, std::size_t(std::ceil(std::sqrt(double(n)))));
+    const std::size_t y = std::min(perSide, (n + x - 1) / x);
+    const std::size_t pages = (n + x * y - 1) / (x * y);
+    if (6 * pages > std::size_t(std::max(maxLayers, 0)))
+        throw Error(std::to_string(probes) + " probes at " + std::to_string(res) + "² per face need " +
+                    std::to_string(6 * pages) + " texture layers of " + std::to_string(x * std::size_t(res)) + "×" +
+                    std::to_string(y * std::size_t(res)) + "; this GL allows " + std::to_string(maxLayers) +
+                    " layers of at most " + std::to_string(maxTextureSize) + "²");
+    return {int(x), int(y), int(pages)};
+}
 
 ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, const glm::vec3& boundsMin,
                                          const glm::vec3& boundsMax, ProbeGridSettings gridSettings) {
@@ -28,21 +51,29 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, const glm::ve
     if (n == 0) throw Error("render --method probes: the cache holds no probes");
     res_ = int(params.res);
     depthRes_ = int(params.depthRes);
-    const auto layers = GLsizei(6 * n);
+    atlas_ = probeAtlasLayout(n, res_, glInteger(GL_MAX_TEXTURE_SIZE), glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS));
+    const auto layers = GLsizei(6 * atlas_.pages);
 
     ao_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(ao_.id(), 1, GL_COMPRESSED_RG_RGTC2, res_, res_, layers);
+    glTextureStorage3D(ao_.id(), 1, GL_COMPRESSED_RG_RGTC2, atlas_.tilesX * res_, atlas_.tilesY * res_, layers);
     distance_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(distance_.id(), 1, depthInternalFormat(params.depthFormat), depthRes_, depthRes_, layers);
+    glTextureStorage3D(distance_.id(), 1, depthInternalFormat(params.depthFormat), atlas_.tilesX * depthRes_,
+                       atlas_.tilesY * depthRes_, layers);
+    GLint unpackAlignment = 4;
+    glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // distance rows are 2 · depthRes bytes: odd depthRes is not 4-aligned
 
     std::vector<glm::vec4> probeTable(n);
     std::vector<glm::vec3> positions(n);
     std::vector<std::vector<float>> distances(n);  // decoded, for the grid's visibility tests
     for (std::size_t i = 0; i < n; ++i) {
         const ProbeView p = cache.probe(i);  // checks the probe's checksum
-        glCompressedTextureSubImage3D(ao_.id(), 0, 0, 0, GLint(6 * i), res_, res_, 6, GL_COMPRESSED_RG_RGTC2,
+        const int tile = int(i % std::size_t(atlas_.tilesPerPage()));
+        const int tx = tile % atlas_.tilesX, ty = tile / atlas_.tilesX;
+        const auto layer = GLint(6 * (i / std::size_t(atlas_.tilesPerPage())));
+        glCompressedTextureSubImage3D(ao_.id(), 0, tx * res_, ty * res_, layer, res_, res_, 6, GL_COMPRESSED_RG_RGTC2,
                                       GLsizei(p.aoConfidence.size()), p.aoConfidence.data());
-        glTextureSubImage3D(distance_.id(), 0, 0, 0, GLint(6 * i), depthRes_, depthRes_, 6, GL_RED,
+        glTextureSubImage3D(distance_.id(), 0, tx * depthRes_, ty * depthRes_, layer, depthRes_, depthRes_, 6, GL_RED,
                             depthType(params.depthFormat), p.depth.data());
         const float scale = params.depthFormat == DepthFormat::R16Unorm ? p.maxDistance : 1.0f;
         probeTable[i] = glm::vec4(p.position, scale);
@@ -50,6 +81,7 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, const glm::ve
         if (!depth::decode(p.depth, depthRes_, params.depthFormat, p.maxDistance, distances[i]))
             throw Error("probe " + std::to_string(p.index) + ": distance cube has the wrong size");
     }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
     // A probe sees a free-space point when its distance cube reaches at least that far in its
     // direction (or saw nothing there at all).
     const auto sees = [&](std::uint32_t probe, const glm::vec3& point) {
@@ -67,6 +99,10 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, const glm::ve
     glNamedBufferStorage(cells_.id(), GLsizeiptr(grid_->table().size() * sizeof(std::uint32_t)), grid_->table().data(), 0);
     counters_ = gl::Buffer::create();
     glNamedBufferStorage(counters_.id(), 3 * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    const std::size_t faceTiles = std::size_t(6 * atlas_.pages) * std::size_t(atlas_.tilesPerPage());
+    gpuBytes_ = faceTiles * std::size_t(res_ * res_) /* BC5: 1 byte per texel */ +
+                faceTiles * std::size_t(depthRes_ * depthRes_) * depthBytesPerTexel(params.depthFormat) +
+                probeTable.size() * sizeof(glm::vec4) + grid_->table().size() * sizeof(std::uint32_t);
 
     program_ = gl::compileComputeProgram("runtime/project.comp");
     const GLuint p = program_.id();
@@ -76,6 +112,8 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, const glm::ve
     glProgramUniform1i(p, glGetUniformLocation(p, "candidatesPerCell"), candidates_);
     glProgramUniform1i(p, glGetUniformLocation(p, "res"), res_);
     glProgramUniform1i(p, glGetUniformLocation(p, "depthRes"), depthRes_);
+    glProgramUniform1i(p, glGetUniformLocation(p, "tilesX"), atlas_.tilesX);
+    glProgramUniform1i(p, glGetUniformLocation(p, "tilesPerPage"), atlas_.tilesPerPage());
     const ProjectSettings project = resolveProjectSettings({});
     glProgramUniform1f(p, glGetUniformLocation(p, "depthTolerance"), project.depthTolerance);
     glProgramUniform1f(p, glGetUniformLocation(p, "depthSlope"), project.depthSlope);

@@ -1,9 +1,10 @@
 // The probe cache as a run-time AO method (`render --method probes`): every probe of a .cubeao cache
-// uploaded once (AO + confidence as a BC5 2D array texture, distance cubes as a second one, six
-// layers per probe), a world grid of K candidate probes per cell (probe_grid.h), and the projection
-// pass (shaders/runtime/project.comp; per-point math and CPU twin in projection.h).
+// uploaded once (AO + confidence as a BC5 2D array texture, distance cubes as a second one, both laid
+// out as probe atlases: ProbeAtlasLayout), a world grid of K candidate probes per cell (probe_grid.h),
+// and the projection pass (shaders/runtime/project.comp; per-point math and CPU twin in projection.h).
 #pragma once
 
+#include <cstddef>
 #include <memory>
 
 #include <glm/vec3.hpp>
@@ -15,6 +16,20 @@
 #include "cubeao/runtime/projection.h"
 
 namespace cubeao {
+
+// Where probe i's six faces live in the array textures: tile t = i mod (tilesX · tilesY) of page
+// p = i / (tilesX · tilesY), tiles in rows of tilesX, face f of page p in layer 6p + f; a tile is
+// res × res texels in the AO texture and depthRes × depthRes in the distance one. Tiles rather than
+// six layers per probe because GL_MAX_ARRAY_TEXTURE_LAYERS is 2048 on llvmpipe and on NVIDIA, i.e.
+// 341 probes; a 16384² page holds 1,024 probes at 512² or 10,000 at 16² (bench render's sweep).
+struct ProbeAtlasLayout {
+    int tilesX = 1, tilesY = 1, pages = 1;
+    int tilesPerPage() const { return tilesX * tilesY; }
+};
+
+// A near-square page just big enough for `probes` (tilesX = ⌈√probes⌉), at most maxTextureSize / res
+// tiles a side, then more pages. Error naming the counts when 6 · pages exceeds maxLayers.
+ProbeAtlasLayout probeAtlasLayout(std::size_t probes, int res, int maxTextureSize, int maxLayers);
 
 class ProbeProjectionPass : public AoPass {
 public:
@@ -31,9 +46,14 @@ public:
     // falls back to 1, open).
     double uncoveredFraction() const;
     const ProbeGrid& grid() const { return *grid_; }
+    const ProbeAtlasLayout& atlas() const { return atlas_; }
+    // GPU memory the probes take: both atlases, the probe table and the candidate grid.
+    std::size_t gpuBytes() const { return gpuBytes_; }
 
 private:
     int res_ = 0, depthRes_ = 0, candidates_ = 0;
+    ProbeAtlasLayout atlas_;
+    std::size_t gpuBytes_ = 0;
     std::unique_ptr<ProbeGrid> grid_;
     gl::Program program_;
     gl::Texture ao_, distance_;

@@ -1,0 +1,55 @@
+// What `render` and `bench render` share to set up and report run-time frames (header-only, like
+// cli_util.h): the AO pass for a method, one path frame's view, the preview's composite settings
+// and the per-pass medians of a run.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_util.h"
+#include "cubeao/cache/cache_file.h"
+#include "cubeao/runtime/probe_projection.h"
+#include "cubeao/runtime/renderer.h"
+#include "cubeao/scene/scene.h"
+#include "cubeao/ssao/ssao_pass.h"
+
+namespace cubeao::cli {
+
+// The method as a pass from the camera G-buffer to raw AO; blur and composite are shared. With a
+// cache: the probe projection (grid over the scene's bounds); without: the baseline `ssao` names
+// (resolved settings).
+inline std::unique_ptr<AoPass> makeAoPass(const SsaoSettings& ssao, const CacheReader* cache, const Scene& scene) {
+    if (cache) return std::make_unique<ProbeProjectionPass>(*cache, scene.bounds.min, scene.bounds.max);
+    return std::make_unique<SsaoPass>(ssao);
+}
+
+// The camera path's frame `frame` at width × height.
+inline CameraView frameView(const CameraPath& path, std::size_t frame, int width, int height) {
+    return CameraView::fromPinhole(PinholeCamera(path, frame, width, height), path.nearPlane);
+}
+
+// The preview's lighting for `scene`: the default light around its up axis, AO strength alpha.
+inline CompositeSettings compositeFor(const Scene& scene, float alpha) {
+    CompositeSettings c;
+    c.alpha = alpha;
+    c.lightDirection = defaultLightDirection(scene.up);
+    return c;
+}
+
+// Median ms per pass over a run's frames (each pass's own median; ao_blur and gpu_total are the
+// medians of the per-frame sums): what `timings_ms` reports.
+inline nlohmann::json timingsJson(const std::vector<PassTimings>& t) {
+    std::vector<double> g, ao, blur, comp, read, aoBlur, total;
+    for (const PassTimings& p : t) {
+        g.push_back(p.gbuffer), ao.push_back(p.ao), blur.push_back(p.blur), comp.push_back(p.composite);
+        read.push_back(p.readback), aoBlur.push_back(p.ao + p.blur);
+        total.push_back(p.gbuffer + p.ao + p.blur + p.composite);
+    }
+    return {{"gbuffer", median(g)},       {"ao", median(ao)},         {"blur", median(blur)},
+            {"composite", median(comp)},  {"readback", median(read)}, {"ao_blur", median(aoBlur)},
+            {"gpu_total", median(total)}};
+}
+
+}  // namespace cubeao::cli
