@@ -73,7 +73,7 @@ TEST_F(GlTest, ProbeProjectionMatchesTheCpuTwin) {
     const CameraView view = CameraView::fromPinhole(PinholeCamera(path, 3, 96, 54), path.nearPlane);
     CameraGBuffer gbuffer(scene.positions, scene.indices);
     gbuffer.render(view);
-    ProbeProjectionPass pass(cache, scene.bounds.min, scene.bounds.max);
+    ProbeProjectionPass pass(cache, scene.positions, scene.indices);
     const gl::Texture aoImage = gl::Texture::create(GL_TEXTURE_2D);
     glTextureStorage2D(aoImage.id(), 1, GL_R32F, view.width, view.height);
     pass.run(gbuffer, view, 3, aoImage.id());
@@ -200,7 +200,7 @@ TEST_F(GlTest, FixedPointAoIsContinuousAsTheCameraWalksFromOneProbeToTheOther) {
     CompositeSettings composite;
     composite.lightDirection = defaultLightDirection(scene.up);
     FrameRenderer renderer(scene.positions, scene.indices,
-                           std::make_unique<ProbeProjectionPass>(cache, scene.bounds.min, scene.bounds.max),
+                           std::make_unique<ProbeProjectionPass>(cache, scene.positions, scene.indices),
                            BlurSettings{}, composite);
     std::vector<PointSample> samples;
     for (int f = 0; f < frames; ++f) {

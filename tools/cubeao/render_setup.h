@@ -21,7 +21,7 @@ namespace cubeao::cli {
 // cache: the probe projection (grid over the scene's bounds); without: the baseline `ssao` names
 // (resolved settings).
 inline std::unique_ptr<AoPass> makeAoPass(const SsaoSettings& ssao, const CacheReader* cache, const Scene& scene) {
-    if (cache) return std::make_unique<ProbeProjectionPass>(*cache, scene.bounds.min, scene.bounds.max);
+    if (cache) return std::make_unique<ProbeProjectionPass>(*cache, scene.positions, scene.indices);
     return std::make_unique<SsaoPass>(ssao);
 }
 

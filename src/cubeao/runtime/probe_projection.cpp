@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -44,8 +45,8 @@ ProbeAtlasLayout probeAtlasLayout(std::size_t probes, int res, int maxTextureSiz
     return {int(x), int(y), int(pages)};
 }
 
-ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, const glm::vec3& boundsMin,
-                                         const glm::vec3& boundsMax, ProbeGridSettings gridSettings) {
+ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, std::span<const glm::vec3> meshPositions,
+                                         std::span<const std::uint32_t> meshIndices, ProbeGridSettings gridSettings) {
     const CacheParams& params = cache.params();
     const std::size_t n = cache.probeCount();
     if (n == 0) throw Error("render --method probes: the cache holds no probes");
@@ -82,15 +83,20 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, const glm::ve
             throw Error("probe " + std::to_string(p.index) + ": distance cube has the wrong size");
     }
     glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
-    // A probe sees a free-space point when its distance cube reaches at least that far in its
-    // direction (or saw nothing there at all).
-    const auto sees = [&](std::uint32_t probe, const glm::vec3& point) {
-        const glm::vec3 d = point - positions[probe];
-        const float stored = distances[probe][cube::texelIndex(d, depthRes_)];
-        return !(stored > 0.0f) || glm::length(d) <= stored * (1.0f + depth::kDepthTolerance);
+    // The grid ranks probes per cell as the pass will: depth test, then confidence-free quality
+    // 1 / texel footprint (projection.h).
+    const ProjectSettings project = resolveProjectSettings({});
+    const auto quality = [&](std::uint32_t probe, const SurfacePoint& x) {
+        const DecodedProbe view{positions[probe], res_, {}, {}, depthRes_, distances[probe]};
+        if (!probeSees(view, x.position, x.normal, project)) return 0.0;
+        const double area = texelFootprint(positions[probe], x.position, x.normal, res_, project.minFacing);
+        return std::isfinite(area) && area > 0.0 ? 1.0 / area : 0.0;
     };
     if (gridSettings.cellSize == 0.0f) gridSettings.cellSize = params.radius;
-    grid_ = std::make_unique<ProbeGrid>(boundsMin, boundsMax, positions, sees, gridSettings);
+    glm::vec3 boundsMin(std::numeric_limits<float>::max()), boundsMax(-std::numeric_limits<float>::max());
+    for (const glm::vec3& v : meshPositions) boundsMin = glm::min(boundsMin, v), boundsMax = glm::max(boundsMax, v);
+    const std::vector<SurfacePoint> points = sampleSurface(meshPositions, meshIndices, gridSettings.cellSize / 8.0f);
+    grid_ = std::make_unique<ProbeGrid>(boundsMin, boundsMax, positions, points, quality, gridSettings);
     candidates_ = grid_->k();
 
     probes_ = gl::Buffer::create();
@@ -114,7 +120,6 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, const glm::ve
     glProgramUniform1i(p, glGetUniformLocation(p, "depthRes"), depthRes_);
     glProgramUniform1i(p, glGetUniformLocation(p, "tilesX"), atlas_.tilesX);
     glProgramUniform1i(p, glGetUniformLocation(p, "tilesPerPage"), atlas_.tilesPerPage());
-    const ProjectSettings project = resolveProjectSettings({});
     glProgramUniform1f(p, glGetUniformLocation(p, "depthTolerance"), project.depthTolerance);
     glProgramUniform1f(p, glGetUniformLocation(p, "depthSlope"), project.depthSlope);
     glProgramUniform1f(p, glGetUniformLocation(p, "minFacing"), project.minFacing);

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <span>
 
 #include <glm/vec3.hpp>
 
@@ -34,9 +35,10 @@ ProbeAtlasLayout probeAtlasLayout(std::size_t probes, int res, int maxTextureSiz
 class ProbeProjectionPass : public AoPass {
 public:
     // Reads every probe of `cache` (checksums checked on the way) and builds the candidate grid over
-    // the scene's bounds. Needs a current GL 4.5 context.
-    ProbeProjectionPass(const CacheReader& cache, const glm::vec3& boundsMin, const glm::vec3& boundsMax,
-                        ProbeGridSettings grid = {});
+    // the scene's mesh (its bounds, and points sampled on its surfaces: probe_grid.h). Needs a
+    // current GL 4.5 context.
+    ProbeProjectionPass(const CacheReader& cache, std::span<const glm::vec3> positions,
+                        std::span<const std::uint32_t> indices, ProbeGridSettings grid = {});
     ~ProbeProjectionPass() override;
 
     const char* name() const override { return "probes"; }
