@@ -11,6 +11,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "bake_stats.h"
 #include "cli_util.h"
 #include "commands.h"
 #include "cubeao/bake/bake.h"
@@ -92,29 +93,12 @@ nlohmann::json settingsJson(const BakeSettings& s) {
             {"depth_format", depthFormatName(s.depthFormat)}};
 }
 
-// Per-run sums and medians for the JSON report.
+// What a bake reports: the stats `bench bake` shares, plus the --verify sums and one entry per probe.
 struct BakeTotals {
-    std::vector<double> total, gbuffer, ao, encode, error, readback;
-    double verifySum = 0.0, verifyNoise = 0.0, rayMs = 0.0, squaredError = 0.0;
-    std::uint64_t verifyTexels = 0, traced = 0, surface = 0, rays = 0, fetches = 0;
+    BakeStats stats;
+    double verifySum = 0.0, verifyNoise = 0.0;
+    std::uint64_t verifyTexels = 0;
     nlohmann::json perProbe = nlohmann::json::array();
-
-    void add(const BakedProbe& p, double ms, nlohmann::json entry) {
-        total.push_back(ms);
-        gbuffer.push_back(p.timings.gbufferMs);
-        ao.push_back(p.timings.aoMs);
-        encode.push_back(p.timings.encodeMs);
-        error.push_back(p.timings.errorMs);
-        readback.push_back(p.timings.readbackMs);
-        if (p.rays) rayMs += p.timings.aoMs;
-        traced += p.tracedTexels;
-        surface += p.encoded.surfaceTexels;
-        rays += p.rays;
-        fetches += p.fetches;
-        squaredError += p.encoded.aoSquaredError;
-        perProbe.push_back(std::move(entry));
-    }
-    double perTexel(double v) const { return surface ? v / double(surface) : 0.0; }
 };
 
 // The devices a bake needs. The GL context must outlive the baker (it owns GL objects): declared
@@ -172,7 +156,8 @@ BakeTotals bakeProbes(const BakeArgs& a, const Bakers& bakers, const std::vector
             t.verifyNoise += v.noise * double(v.texels);
             t.verifyTexels += v.texels;
         }
-        t.add(probe, ms, std::move(entry));
+        t.stats.add(probe, ms);
+        t.perProbe.push_back(std::move(entry));
         EncodedProbe& e = probe.encoded;
         cache.add({index, probes[i].position, e.maxDistance, std::move(e.aoConfidence), std::move(e.depth)});
         progress.advance();
@@ -186,7 +171,8 @@ nlohmann::json report(const BakeArgs& a, const Scene& scene, const BakeSettings&
                       const BakeCacheWriter& cache, std::size_t probesTotal, std::size_t skipped,
                       const std::string& renderer) {
     const CacheReader written(a.out);
-    const std::size_t baked = t.total.size();
+    const BakeStats& s = t.stats;
+    const std::size_t baked = s.probes();
     nlohmann::json result = {{"scene", scene.source},
                              {"scene_hash", hashToString(scene.hash)},
                              {"probes", baked},
@@ -195,21 +181,17 @@ nlohmann::json report(const BakeArgs& a, const Scene& scene, const BakeSettings&
                              {"probes_in_cache", written.probeCount()},
                              {"shard", {shard.index, shard.count}},
                              {"settings", settingsJson(settings)},
-                             {"ms_per_probe", median(t.total)},
-                             {"timings_ms", {{"gbuffer", median(t.gbuffer)}, {"ao", median(t.ao)}, {"encode", median(t.encode)},
-                                             {"error", median(t.error)}, {"readback", median(t.readback)},
+                             {"ms_per_probe", median(s.total)},
+                             {"timings_ms", {{"gbuffer", median(s.gbuffer)}, {"ao", median(s.ao)}, {"encode", median(s.encode)},
+                                             {"error", median(s.error)}, {"readback", median(s.readback)},
                                              {"write_total", cache.writeMs()}}},
-                             {"ao_psnr", aoPsnr(t.squaredError, t.surface)},
                              {"bytes_per_texel", written.bytesPerTexel()},
                              {"file_bytes", written.fileSize()},
                              {"appends", cache.appends()},
-                             {"traced_fraction", t.perTexel(double(t.traced))},
-                             {"rays", t.rays},
-                             {"rays_per_s", t.rayMs > 0.0 ? double(t.rays) / (t.rayMs * 1e-3) : 0.0},
-                             {"fetches_per_texel", t.perTexel(double(t.fetches))},
-                             {"rays_per_texel", t.perTexel(double(t.rays))},
+                             {"rays", s.rays},
                              {"per_probe", t.perProbe},
                              {"out", a.out}};
+    result.update(s.ratesJson());  // ao_psnr, traced_fraction, rays_per_s, rays_per_texel, fetches_per_texel
     if (!renderer.empty()) result["renderer"] = renderer;
     if (a.verify) {
         result["verify_mae"] = t.verifyTexels ? t.verifySum / double(t.verifyTexels) : 0.0;
@@ -219,7 +201,7 @@ nlohmann::json report(const BakeArgs& a, const Scene& scene, const BakeSettings&
     if (!a.dump.empty()) result["dump"] = a.dump;
     std::printf("bake: %zu probes -> %s (%zu skipped: already there; %zu in the cache), %.1f ms per probe (%s, %s), "
                 "AO PSNR %.1f dB, %.4f bytes/texel%s\n",
-                baked, a.out.c_str(), skipped, written.probeCount(), median(t.total),
+                baked, a.out.c_str(), skipped, written.probeCount(), median(s.total),
                 estimatorName(settings.estimator), bakeDeviceName(settings.device), result["ao_psnr"].get<double>(),
                 written.bytesPerTexel(),
                 a.verify ? (", verify_mae " + std::to_string(result["verify_mae"].get<double>())).c_str() : "");

@@ -10,6 +10,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "bake_stats.h"
 #include "cli_util.h"
 #include "commands.h"
 #include "cubeao/bake/bake.h"
@@ -38,42 +39,18 @@ std::vector<glm::vec3> probePositions(const std::string& scene, const std::strin
     return out;
 }
 
-struct RunStats {
-    std::vector<double> total, gbuffer, ao, encode, error, readback, encodeShare;
-    std::uint64_t rays = 0, fetches = 0, traced = 0, surface = 0;
-    double rayMs = 0.0, squaredError = 0.0;
-
-    void add(const BakedProbe& p, double ms) {
-        total.push_back(ms);
-        gbuffer.push_back(p.timings.gbufferMs);
-        ao.push_back(p.timings.aoMs);
-        encode.push_back(p.timings.encodeMs);
-        error.push_back(p.timings.errorMs);
-        readback.push_back(p.timings.readbackMs);
-        if (p.timings.aoMs > 0.0) encodeShare.push_back(p.timings.encodeMs / p.timings.aoMs);
-        squaredError += p.encoded.aoSquaredError;
-        rays += p.rays;
-        fetches += p.fetches;
-        traced += p.tracedTexels;
-        surface += p.encoded.surfaceTexels;
-        if (p.rays) rayMs += p.timings.aoMs;
-    }
-    nlohmann::json json() const {
-        const double s = double(std::max<std::uint64_t>(surface, 1));
-        return {{"ms_per_probe", median(total)},
-                {"gbuffer_ms", median(gbuffer)},
-                {"ao_ms", median(ao)},
-                {"encode_ms", median(encode)},  // BC5 + distance cube: what the cache stores
-                {"encode_to_ao", median(encodeShare)},
-                {"error_ms", median(error)},    // BC5 AO error measurement
-                {"readback_ms", median(readback)},
-                {"ao_psnr", aoPsnr(squaredError, surface)},
-                {"rays_per_s", rayMs > 0.0 ? double(rays) / (rayMs * 1e-3) : 0.0},
-                {"rays_per_texel", double(rays) / s},
-                {"fetches_per_texel", double(fetches) / s},
-                {"traced_fraction", double(traced) / s}};
-    }
-};
+// One estimator on one device: stage medians under their bench names, then the rates `bake` prints too.
+nlohmann::json runJson(const BakeStats& stats) {
+    nlohmann::json run = {{"ms_per_probe", median(stats.total)},
+                          {"gbuffer_ms", median(stats.gbuffer)},
+                          {"ao_ms", median(stats.ao)},
+                          {"encode_ms", median(stats.encode)},  // BC5 + distance cube: what the cache stores
+                          {"encode_to_ao", median(stats.encodeToAo)},
+                          {"error_ms", median(stats.error)},    // BC5 AO error measurement
+                          {"readback_ms", median(stats.readback)}};
+    run.update(stats.ratesJson());
+    return run;
+}
 
 template <class F>
 double timeMs(F&& f) {
@@ -97,7 +74,7 @@ nlohmann::json benchScene(const BenchArgs& a, const std::string& spec, const std
             s.estimator = parseEstimator(estimator);
             s.device = parseBakeDevice(device);
             s = resolveBakeSettings(s, scene.defaultRadius());
-            RunStats stats;
+            BakeStats stats;
             std::unique_ptr<GpuBaker> gpu;
             double setupMs = 0.0;
             if (device == "gpu") setupMs = timeMs([&] { gpu = std::make_unique<GpuBaker>(scene, s); });
@@ -116,7 +93,7 @@ nlohmann::json benchScene(const BenchArgs& a, const std::string& spec, const std
                     gbufferModes[name] = median(ms);
                 }
             }
-            nlohmann::json run = stats.json();
+            nlohmann::json run = runJson(stats);
             run["device"] = device;
             run["estimator"] = estimator;
             run["setup_ms"] = setupMs;  // GPU: upload, BVH build, shader compilation
