@@ -6,9 +6,16 @@
 #   and every checksum of each cache checked (info --verify) → render the camera path from the probes
 #   and with the screen-space baselines (gtao, hbao, alchemy) → reference AO of the same path (Embree,
 #   the ground truth) → compare each against it → a table, report.json and pictures.
-# Environment: CUBEAO_DEMO_SCENE (default builtin:cloister), CUBEAO_DEMO_OUT (default out/demo),
-# CUBEAO_DEMO_SPP (reference rays per pixel, default 256), CUBEAO_DEMO_RES (probe face size, 128),
-# CUBEAO_DEMO_PROBES (probe count, 12).
+# Environment: CUBEAO_DEMO_SCENE (default builtin:cloister), CUBEAO_DEMO_CAMERA (camera path JSON;
+# default: a built-in scene's own), CUBEAO_DEMO_SIZE (image WxH; default: the camera file's),
+# CUBEAO_DEMO_OUT (default out/demo), CUBEAO_DEMO_SPP (reference rays per pixel, default 256),
+# CUBEAO_DEMO_RES (probe face size, 128), CUBEAO_DEMO_PROBES (probe count, 12), CUBEAO_DEMO_BAKE_SPP
+# (rays per traced texel, 64), CUBEAO_DEMO_DEVICE (bake on gpu, falling back to cpu; or cpu;
+# CUBEAO_DEMO_DEVICE_TRACED / _HSPLIT choose per estimator), CUBEAO_DEMO_VERIFY (1: check every
+# texel against Embree; 0: skip),
+# CUBEAO_DEMO_REFERENCE (an existing reference directory of the same walk to reuse instead of tracing
+# one), CUBEAO_BIN (a built cubeao to use; skips install and build).
+# The shared walks: tools/walks.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scene=${CUBEAO_DEMO_SCENE:-builtin:cloister}
@@ -16,10 +23,21 @@ out=${CUBEAO_DEMO_OUT:-out/demo}
 spp=${CUBEAO_DEMO_SPP:-256}
 res=${CUBEAO_DEMO_RES:-128}
 nprobes=${CUBEAO_DEMO_PROBES:-12}
+bake_spp=${CUBEAO_DEMO_BAKE_SPP:-64}
+device=${CUBEAO_DEMO_DEVICE:-gpu}
+verify=${CUBEAO_DEMO_VERIFY:-1}
+reference=${CUBEAO_DEMO_REFERENCE:-}
+walk=()  # camera and image size, passed to place, render and reference alike
+[ -z "${CUBEAO_DEMO_CAMERA:-}" ] || walk+=(--camera "$CUBEAO_DEMO_CAMERA")
+if [ -n "${CUBEAO_DEMO_SIZE:-}" ]; then walk+=(--width "${CUBEAO_DEMO_SIZE%x*}" --height "${CUBEAO_DEMO_SIZE#*x}"); fi
 
-bash tools/install-deps.sh
-bash tools/build.sh --target cubeao
-bin=build/cubeao
+if [ -n "${CUBEAO_BIN:-}" ]; then
+  bin=$CUBEAO_BIN
+else
+  bash tools/install-deps.sh
+  bash tools/build.sh --target cubeao
+  bin=build/cubeao
+fi
 
 rm -rf "$out"
 mkdir -p "$out"
@@ -27,19 +45,25 @@ echo "== scene"
 "$bin" info "$scene" --json | tee "$out/info.log" | tail -1 >"$out/info.json"
 sed '$d' "$out/info.log"
 echo "== place: $nprobes probes along the camera path"
-"$bin" place "$scene" --budget "$nprobes" --out "$out/probes.json"
-device=gpu
+"$bin" place "$scene" ${CUBEAO_DEMO_CAMERA:+--camera "$CUBEAO_DEMO_CAMERA"} --budget "$nprobes" --out "$out/probes.json"
 for est in traced hsplit; do
-  echo "== bake ($est, ${res}² per face, $device) into a probe cache, checked against the Embree twin at every texel"
+  var=CUBEAO_DEMO_DEVICE_${est^^}
+  dev=${!var:-$device}
+  bake=("$bin" bake "$scene" --probes "$out/probes.json" --out "$out/bake-$est.cubeao" --dump "$out/bake-$est-dump"
+        --res "$res" --estimator "$est" --spp "$bake_spp" --json)
+  if [ "$verify" = 1 ]; then
+    echo "== bake ($est, ${res}² per face, $dev) into a probe cache, checked against the Embree twin at every texel"
+    bake+=(--verify)
+  else
+    echo "== bake ($est, ${res}² per face, $dev) into a probe cache"
+  fi
   cache="$out/bake-$est.cubeao"
-  bake=("$bin" bake "$scene" --probes "$out/probes.json" --out "$cache" --dump "$out/bake-$est-dump"
-        --res "$res" --estimator "$est" --verify --json)
-  if ! "${bake[@]}" --device "$device" >"$out/bake-$est.log"; then
-    [ "$device" = gpu ] || exit 1
+  if ! "${bake[@]}" --device "$dev" >"$out/bake-$est.log"; then
+    [ "$dev" = gpu ] || exit 1
     echo "   (no usable OpenGL 4.5 context: baking on the CPU path instead)"
     device=cpu
     rm -f "$cache"
-    "${bake[@]}" --device "$device" >"$out/bake-$est.log"
+    "${bake[@]}" --device cpu >"$out/bake-$est.log"
   fi
   sed '$d' "$out/bake-$est.log"
   tail -1 "$out/bake-$est.log" >"$out/bake-$est.json"
@@ -58,10 +82,16 @@ for m in "${methods[@]}"; do
     probes-hsplit) args=(--method probes --cache "$out/bake-hsplit.cubeao") ;;
     *) args=(--method "$m") ;;
   esac
-  "$bin" render "$scene" "${args[@]}" --out "$out/render-$m" --json | tail -1 >"$out/render-$m.json"
+  "$bin" render "$scene" "${walk[@]}" "${args[@]}" --out "$out/render-$m" --json | tail -1 >"$out/render-$m.json"
 done
-echo "== reference: $spp rays per pixel"
-"$bin" reference "$scene" --spp "$spp" --out "$out/reference" --json | tail -1 >"$out/reference.json"
+if [ -n "$reference" ]; then
+  echo "== reference: reusing $reference"
+  ln -sfn "$(realpath "$reference")" "$out/reference"
+  cp "$reference/reference.json" "$out/reference.json"
+else
+  echo "== reference: $spp rays per pixel"
+  "$bin" reference "$scene" "${walk[@]}" --spp "$spp" --out "$out/reference" --json | tail -1 >"$out/reference.json"
+fi
 for m in "${methods[@]}"; do
   "$bin" compare "$out/render-$m" "$out/reference" --json | tail -1 >"$out/compare-$m.json"
 done
@@ -89,12 +119,13 @@ json.dump(report, open(os.path.join(out, "report.json"), "w"), indent=1)
 print()
 print(f"scene      {info['scene']}: {info['triangles']} triangles, AO radius {ref['radius']:.3f}")
 print(f"reference  {len(ref['frames'])} frames {ref['width']}x{ref['height']}, {ref['spp']} spp, "
-      f"noise (mean std. error) {ref['noise']:.4f}: part of every MAE below")
+      f"noise (std. error) {ref['noise']:.4f}: part of every MAE below")
 print()
-where = bakes['traced'].get('renderer', 'CPU path, Embree')
-print(f"{'bake':<10}{'probes':>7}{'ms/probe':>10}{'verify_mae':>12}{'AO PSNR':>9}{'B/texel':>9}   ({where})")
+print(f"{'bake':<10}{'probes':>7}{'ms/probe':>10}{'verify_mae':>12}{'AO PSNR':>9}{'B/texel':>9}   device")
 for est, b in bakes.items():
-    print(f"{est:<10}{b['probes']:>7}{b['ms_per_probe']:>10.0f}{b['verify_mae']:>12.4f}{b['ao_psnr']:>9.1f}{caches[est]['bytes_per_texel']:>9.3f}")
+    where = f"GPU path ({b['renderer']})" if 'renderer' in b else "CPU path (Embree)"
+    print(f"{est:<10}{b['probes']:>7}{b['ms_per_probe']:>10.0f}{b.get('verify_mae', float('nan')):>12.4f}{b['ao_psnr']:>9.1f}"
+          f"{caches[est]['bytes_per_texel']:>9.3f}   {where}")
 print()
 print(f"{'method':<15}{'MAE':>8}{'SSIM':>8}{'flicker':>9}{'AO ms':>8}{'uncovered':>11}   (against the reference)")
 for m in methods:
