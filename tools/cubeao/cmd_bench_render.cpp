@@ -13,8 +13,10 @@
 // so few rays are enough.
 //
 // Timings are gl::timeGpu per pass (timer queries on a real GPU, wall clock around glFinish on
-// llvmpipe), medians over --frames frames spread along the path, after one untimed warm-up frame
-// (llvmpipe compiles shader variants on first use).
+// llvmpipe), medians over --frames frames spread along the path × --rounds rounds, after one untimed
+// warm-up frame (llvmpipe compiles shader variants on first use). The rounds interleave all methods
+// and probe counts: on a shared machine a slow spell then hits all of them alike (sequential runs
+// showed a 30 % "spread" over the sweep one time and 5 % the next).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -47,7 +49,7 @@ namespace fs = std::filesystem;
 
 struct RenderBenchArgs {
     std::string scene = "builtin:cloister", camera;
-    int width = 1920, height = 1080, frames = 3, res = 16, spp = 16;
+    int width = 1920, height = 1080, frames = 3, rounds = 3, res = 16, spp = 16;
     std::vector<std::size_t> probes{10, 100, 1000, 10000};
     std::vector<std::string> methods{"probes", "gtao", "hbao", "alchemy"};
     bool json = false;
@@ -64,6 +66,7 @@ void checkUsage(const RenderBenchArgs& a) {
     if (a.methods.empty()) problems.push_back("--methods: name at least one");
     if (a.width < 1 || a.height < 1) problems.push_back("--width and --height must be positive");
     if (a.frames < 1) problems.push_back("--frames must be at least 1");
+    if (a.rounds < 1) problems.push_back("--rounds must be at least 1");
     if (a.res < 4 || a.res % 4 != 0) problems.push_back("--res must be a multiple of 4 (BC5 blocks)");
     if (a.spp < 1) problems.push_back("--spp must be at least 1");
     for (const std::size_t n : a.probes)
@@ -133,23 +136,37 @@ SweepProbes bakeSweepProbes(const RenderBenchArgs& a, const Scene& scene, const 
     return s;
 }
 
-// One method's timed frames, after an untimed warm-up frame.
-struct FrameRun {
+// One method under test: its renderer (warmed up by one untimed frame: llvmpipe compiles shader
+// variants on first use), what the report says of it, and its timings so far.
+struct Timed {
+    nlohmann::json row;
+    std::unique_ptr<FrameRenderer> renderer;
     std::vector<PassTimings> timings;
-    double fetches = 0.0, uncovered = 0.0;  // per pixel, means over the timed frames
-};
+    double fetches = 0.0, uncovered = 0.0;  // sums over the timed frames
 
-FrameRun timeFrames(FrameRenderer& renderer, const CameraPath& path, const std::vector<std::size_t>& frames, int w, int h) {
-    auto* projection = dynamic_cast<ProbeProjectionPass*>(&renderer.method());
-    renderer.render(frameView(path, frames[0], w, h), std::uint32_t(frames[0]));
-    FrameRun run;
-    for (const std::size_t f : frames) {
-        run.timings.push_back(renderer.render(frameView(path, f, w, h), std::uint32_t(f)).timings);
-        run.fetches += renderer.method().fetchesPerPixel() / double(frames.size());
-        if (projection) run.uncovered += projection->uncoveredFraction() / double(frames.size());
+    Timed(nlohmann::json r, std::unique_ptr<FrameRenderer> fr, const CameraPath& path, std::size_t frame, int w, int h)
+        : row(std::move(r)), renderer(std::move(fr)) {
+        renderer->render(frameView(path, frame, w, h), std::uint32_t(frame));
     }
-    return run;
-}
+    // One pass over the frames.
+    void time(const CameraPath& path, const std::vector<std::size_t>& frames, int w, int h) {
+        const auto* projection = dynamic_cast<const ProbeProjectionPass*>(&renderer->method());
+        for (const std::size_t f : frames) {
+            timings.push_back(renderer->render(frameView(path, f, w, h), std::uint32_t(f)).timings);
+            fetches += renderer->method().fetchesPerPixel();
+            if (projection) uncovered += projection->uncoveredFraction();
+        }
+    }
+    // The row with the medians and per-pixel means.
+    const nlohmann::json& finish() {
+        const double n = double(std::max<std::size_t>(timings.size(), 1));
+        row["timings_ms"] = timingsJson(timings);
+        row["fetches_per_pixel"] = fetches / n;
+        row["blur_fetches_per_pixel"] = renderer->blur().fetchesPerPixel();
+        if (row.contains("probes")) row["uncovered_fraction"] = uncovered / n;
+        return row;
+    }
+};
 
 struct Bench {
     const RenderBenchArgs& args;
@@ -159,21 +176,22 @@ struct Bench {
     BlurSettings blur;
     CompositeSettings composite;
 
-    nlohmann::json baseline(const std::string& method) const {
+    std::unique_ptr<Timed> timed(nlohmann::json row, std::unique_ptr<AoPass> pass) const {
+        auto renderer = std::make_unique<FrameRenderer>(scene.positions, scene.indices, std::move(pass), blur, composite);
+        return std::make_unique<Timed>(std::move(row), std::move(renderer), path, frames[0], args.width, args.height);
+    }
+
+    std::unique_ptr<Timed> baseline(const std::string& method) const {
         SsaoSettings s;
         s.method = parseSsaoMethod(method);
         s = resolveSsaoSettings(s, scene.defaultRadius());
-        FrameRenderer renderer(scene.positions, scene.indices, makeAoPass(s, nullptr, scene), blur, composite);
-        const FrameRun run = timeFrames(renderer, path, frames, args.width, args.height);
-        return {{"method", method},
-                {"timings_ms", timingsJson(run.timings)},
-                {"fetches_per_pixel", run.fetches},
-                {"fetches_per_pixel_planned", plannedFetchesPerPixel(s)},
-                {"blur_fetches_per_pixel", renderer.blur().fetchesPerPixel()}};
+        return timed({{"method", method}, {"fetches_per_pixel_planned", plannedFetchesPerPixel(s)}},
+                     makeAoPass(s, nullptr, scene));
     }
 
-    // The first `count` sweep probes written as a cache, uploaded and timed.
-    nlohmann::json probes(const SweepProbes& sweep, std::size_t count, const fs::path& dir) const {
+    // The first `count` sweep probes written as a cache and uploaded (the cache file is read while
+    // the pass is built, then deleted).
+    std::unique_ptr<Timed> probes(const SweepProbes& sweep, std::size_t count, const fs::path& dir) const {
         const fs::path file = dir / ("sweep_" + std::to_string(count) + ".cubeao");
         writeCache(file, cacheParamsFor(sweep.settings, scene.hash),
                    std::vector<ProbeRecord>(sweep.records.begin(), sweep.records.begin() + std::ptrdiff_t(count)));
@@ -184,7 +202,7 @@ struct Bench {
         const auto& projection = dynamic_cast<const ProbeProjectionPass&>(*pass);
         const ProbeAtlasLayout& atlas = projection.atlas();
         const ProbeGrid& grid = projection.grid();
-        nlohmann::json out = {{"method", "probes"},
+        nlohmann::json row = {{"method", "probes"},
                               {"probes", count},
                               {"prep_ms", prepMs},
                               {"gpu_bytes", projection.gpuBytes()},
@@ -192,14 +210,8 @@ struct Bench {
                               {"atlas", {atlas.tilesX, atlas.tilesY, atlas.pages}},
                               {"grid", {{"dims", {grid.dims().x, grid.dims().y, grid.dims().z}},
                                         {"cell", grid.cellSize()}, {"candidates", grid.k()}}}};
-        FrameRenderer renderer(scene.positions, scene.indices, std::move(pass), blur, composite);
-        const FrameRun run = timeFrames(renderer, path, frames, args.width, args.height);
-        out["timings_ms"] = timingsJson(run.timings);
-        out["fetches_per_pixel"] = run.fetches;
-        out["blur_fetches_per_pixel"] = renderer.blur().fetchesPerPixel();
-        out["uncovered_fraction"] = run.uncovered;
         fs::remove(file);
-        return out;
+        return timed(std::move(row), std::move(pass));
     }
 };
 
@@ -276,14 +288,18 @@ void run(const RenderBenchArgs& a) {
     const Bench bench{a, scene, path, benchFrames(path, a.frames), BlurSettings{}, compositeFor(scene, 1.0f)};
     const std::set<std::size_t> counts(a.probes.begin(), a.probes.end());
     const bool wall = gl::trustedClock() == gl::GpuClock::WallClock;
-    std::printf("bench render: %s, %dx%d, %zu frames (median), blur %d, on %s (%s); ms per pass:\n", scene.source.c_str(),
-                a.width, a.height, bench.frames.size(), bench.blur.radius, context->renderer().c_str(),
+    std::printf("bench render: %s, %dx%d, %zu frames x %d interleaved rounds (median), blur %d, on %s (%s); ms per pass:\n",
+                scene.source.c_str(), a.width, a.height, bench.frames.size(), a.rounds, bench.blur.radius,
+                context->renderer().c_str(),
                 wall ? "wall clock around glFinish" : "GL timer queries");
     printHeader();
 
-    nlohmann::json methods = nlohmann::json::object(), sweep = nlohmann::json::array(), sweepCaches;
+    // Every method is set up first and then timed in interleaved rounds, so that a slow spell of a
+    // shared machine falls on all of them rather than on one.
+    std::vector<std::unique_ptr<Timed>> timed;
     for (const std::string& m : a.methods)
-        if (m != "probes") printRow(methods[m] = bench.baseline(m));
+        if (m != "probes") timed.push_back(bench.baseline(m));
+    nlohmann::json sweepCaches;
     if (std::find(a.methods.begin(), a.methods.end(), "probes") != a.methods.end()) {
         const SweepProbes probes = bakeSweepProbes(a, scene, path, *counts.rbegin());
         sweepCaches = {{"how", "CPU bake (Embree; traced AO; the bake's BC5 and distance encoders) of probes scattered "
@@ -294,11 +310,16 @@ void run(const RenderBenchArgs& a) {
                        {"bake_ms", probes.bakeMs},
                        {"bake_ms_per_probe", probes.bakeMs / double(*counts.rbegin())}};
         const TempDir dir;
-        for (const std::size_t n : counts) {
-            sweep.push_back(bench.probes(probes, n, dir.path));
-            printRow(sweep.back());
-        }
-        methods["probes"] = sweep.back();
+        for (const std::size_t n : counts) timed.push_back(bench.probes(probes, n, dir.path));
+    }
+    for (int round = 0; round < a.rounds; ++round)
+        for (const auto& t : timed) t->time(path, bench.frames, a.width, a.height);
+    nlohmann::json methods = nlohmann::json::object(), sweep = nlohmann::json::array();
+    for (const auto& t : timed) {
+        const nlohmann::json& row = t->finish();
+        printRow(row);
+        if (row.contains("probes")) sweep.push_back(row);
+        methods[row["method"].get<std::string>()] = row;  // probes: the largest count, the last
     }
     const nlohmann::json targets = summary(methods, sweep);
     if (a.json) {
@@ -308,6 +329,7 @@ void run(const RenderBenchArgs& a) {
                    {"width", a.width},
                    {"height", a.height},
                    {"frames", bench.frames},
+                   {"rounds", a.rounds},
                    {"radius", scene.defaultRadius()},
                    {"blur", bench.blur.radius},
                    {"renderer", context->renderer()},
@@ -329,6 +351,8 @@ void addBenchRender(CLI::App& bench) {
     cmd->add_option("--width", a->width, "Frame width")->capture_default_str();
     cmd->add_option("--height", a->height, "Frame height")->capture_default_str();
     cmd->add_option("--frames", a->frames, "Path frames timed (spread along the path; median reported)")
+        ->capture_default_str();
+    cmd->add_option("--rounds", a->rounds, "Times every method is timed over the frames, interleaved with the others")
         ->capture_default_str();
     cmd->add_option("--probes", a->probes, "Probe counts of the sweep (comma-separated); the largest is \"probes\"")
         ->delimiter(',')
