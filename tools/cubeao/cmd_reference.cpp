@@ -29,6 +29,9 @@ struct ReferenceArgs {
 };
 
 void run(const ReferenceArgs& a) {
+    // Also checked by renderReferenceFrame; here before the scene loads and --out is created.
+    if (a.spp % a.replicas != 0)
+        throw UsageError("--replicas " + std::to_string(a.replicas) + " must divide --spp " + std::to_string(a.spp));
     const Scene scene = loadScene(a.scene);
     const CameraPath path = resolveCameraPath(a.camera, a.scene);
     const FrameRange range = parseFrameRange(a.frames, path.frames.size());
@@ -39,8 +42,6 @@ void run(const ReferenceArgs& a) {
     resolveImageSize(a.width, a.height, path, w, h);
     fs::create_directories(a.out);
 
-    if (a.spp % a.replicas != 0)
-        throw UsageError("--replicas " + std::to_string(a.replicas) + " must divide --spp " + std::to_string(a.spp));
     spdlog::info("reference: {} ({} triangles), frames {}:{} at {}x{}, {} spp in {} replicas, R = {}", scene.source,
                  scene.triangleCount(), range.begin, range.end, w, h, settings.spp, a.replicas, settings.radius);
     const auto t0 = std::chrono::steady_clock::now();

@@ -83,14 +83,12 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, std::span<con
             throw Error("probe " + std::to_string(p.index) + ": distance cube has the wrong size");
     }
     glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
-    // The grid ranks probes per cell as the pass will: depth test, then confidence-free quality
-    // 1 / texel footprint (projection.h).
+    // The grid ranks probes per cell as the pass will, less the confidence (projection.h).
     const ProjectSettings project = resolveProjectSettings({});
     const auto quality = [&](std::uint32_t probe, const SurfacePoint& x) {
         const DecodedProbe view{positions[probe], res_, {}, {}, depthRes_, distances[probe]};
-        if (!probeSees(view, x.position, x.normal, project)) return 0.0;
-        const double area = texelFootprint(positions[probe], x.position, x.normal, res_, project.minFacing);
-        return std::isfinite(area) && area > 0.0 ? 1.0 / area : 0.0;
+        const double area = visibleFootprint(view, x.position, x.normal, project);
+        return area > 0.0 ? 1.0 / area : 0.0;  // 1 / inf = 0: not seen
     };
     if (gridSettings.cellSize == 0.0f) gridSettings.cellSize = params.radius;
     glm::vec3 boundsMin(std::numeric_limits<float>::max()), boundsMax(-std::numeric_limits<float>::max());

@@ -40,6 +40,12 @@ bool probeSees(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n
     return depth::visible(test, stored, distance, -glm::dot(n, d) / distance, probe.depthRes);
 }
 
+double visibleFootprint(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n,
+                        const ProjectSettings& settings) {
+    if (!probeSees(probe, x, n, settings)) return std::numeric_limits<double>::infinity();
+    return texelFootprint(probe.position, x, n, probe.res, settings.minFacing);
+}
+
 Projected projectAo(std::span<const DecodedProbe> candidates, const glm::vec3& x, const glm::vec3& n,
                     const ProjectSettings& settings) {
     struct Ranked {
@@ -48,8 +54,7 @@ Projected projectAo(std::span<const DecodedProbe> candidates, const glm::vec3& x
     };
     Ranked best[3];  // descending quality
     for (const DecodedProbe& probe : candidates) {
-        if (!probeSees(probe, x, n, settings)) continue;
-        const double area = texelFootprint(probe.position, x, n, probe.res, settings.minFacing);
+        const double area = visibleFootprint(probe, x, n, settings);
         if (!std::isfinite(area)) continue;
         const std::size_t t = cube::texelIndex(x - probe.position, probe.res);
         const Ranked r{double(probe.confidence[t]) / area, probe.ao[t]};

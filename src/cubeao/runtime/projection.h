@@ -46,6 +46,12 @@ double texelFootprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec
 // no surface that way) does not count as seeing x: its AO texels hold nothing for x either.
 bool probeSees(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n, const ProjectSettings& settings);
 
+// texelFootprint() of a probe that sees x (probeSees), +inf when it does not: the area that ranks
+// probes, as quality = confidence / area in projectAo and as 1 / area in the candidate grid
+// (probe_grid.h), so the grid chooses by what the pass will rank.
+double visibleFootprint(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n,
+                        const ProjectSettings& settings);
+
 struct Projected {
     float ao = 1.0f;
     bool covered = false;  // some candidate saw the point
