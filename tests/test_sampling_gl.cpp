@@ -1,5 +1,5 @@
-// The GLSL sampling header (shaders/common/sampling.glsl) against its C++ twin
-// (src/cubeao/reference/sampling.h): the GPU bake must trace the rays the Embree twin traces.
+// The GLSL sampling header (shaders/common/sampling.h) against its C++ twin
+// (src/cubeao/core/sampling.h): the GPU bake must trace the rays the Embree twin traces.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -9,7 +9,7 @@
 
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/shader.h"
-#include "cubeao/reference/sampling.h"
+#include "cubeao/core/sampling.h"
 #include "gl_fixture.h"
 
 namespace {
@@ -19,7 +19,7 @@ using namespace cubeao;
 TEST_F(GlTest, SamplingHeaderMatchesTheCppTwin) {
     constexpr GLuint kCount = 256, kSpp = 64;  // 4 keys × 64 samples
     const std::string src = R"(#version 450 core
-#include "sampling.glsl"
+#include "sampling.h"
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) writeonly buffer Out { vec4 values[]; };  // u, v, hash bits, 0 | direction
 void main() {

@@ -3,19 +3,18 @@
 // whole scene (BVH in SSBOs), the same rays as ambientOcclusion() in
 // src/cubeao/reference/ao_reference.cpp traces for the same texelKey. TEXEL_LIST: only the texels
 // listed by hybrid_select.comp (dispatched indirectly); otherwise every texel, index = global id.
-layout(local_size_x = 64) in;
-
-#define BVH_NODE_BINDING 10
-#define BVH_TRIANGLE_BINDING 11
+#include "bake_layout.h"
 #include "bvh.glsl"
-#include "cube.glsl"
-#include "falloff.glsl"
-#include "sampling.glsl"
+#include "cube.h"
+#include "falloff.h"
+#include "sampling.h"
 
-layout(binding = 0) uniform sampler2DArray gbuffer;
-layout(std430, binding = 1) buffer AoOut { vec2 aoConfidence[]; };
+layout(local_size_x = kBakeListGroupSize) in;
+
+layout(binding = kBakeGBufferUnit) uniform sampler2DArray gbuffer;
+layout(std430, binding = kBakeAoBuffer) buffer AoOut { vec2 aoConfidence[]; };
 #ifdef TEXEL_LIST
-layout(std430, binding = 2) readonly buffer TexelList { uvec4 header; uint texels[]; };  // header.w = count
+layout(std430, binding = kBakeTexelListBuffer) readonly buffer TexelList { TexelListHeader header; uint texels[]; };
 #endif
 
 uniform vec3 probe;
@@ -28,14 +27,13 @@ uniform uint probeKey;
 
 void main() {
 #ifdef TEXEL_LIST
-    if (gl_GlobalInvocationID.x >= header.w) return;
+    if (gl_GlobalInvocationID.x >= header.count) return;
     uint index = texels[gl_GlobalInvocationID.x];
 #else
     uint index = gl_GlobalInvocationID.x;
-    if (index >= 6u * uint(res) * uint(res)) return;
+    if (index >= uint(kCubeFaces) * uint(res) * uint(res)) return;
 #endif
-    uint faceSize = uint(res) * uint(res);
-    ivec3 t = ivec3(int(index % uint(res)), int((index % faceSize) / uint(res)), int(index / faceSize));
+    ivec3 t = cubeTexelOfIndex(index, res);
     vec4 g = texelFetch(gbuffer, t, 0);
     if (!(g.w > 0.0)) {
         aoConfidence[index] = vec2(1.0);
@@ -43,7 +41,7 @@ void main() {
     }
     vec3 n = g.xyz;
     vec3 org = probe + cubeTexelDirection(t.z, t.xy, res) * g.w + surfaceEpsilon * n;
-    uint key = hashKey(uint(t.x), uint(t.z * res + t.y), probeKey);
+    uint key = cubeTexelKey(t, res, probeKey);
     float occlusion = 0.0;
     for (int k = 0; k < spp; ++k) {
         vec3 dir = cosineHemisphere(rotatedHammersley(uint(k), uint(spp), key), n);

@@ -5,7 +5,7 @@
 layout(triangles, invocations = 6) in;
 layout(triangle_strip, max_vertices = 3) out;
 
-uniform mat4 clipFromWorld[6];  // src/cubeao/bake/cube.h clipFromWorld(face, probe, zNear)
+uniform mat4 clipFromWorld[6];  // src/cubeao/core/cube.h clipFromWorld(face, probe, zNear)
 in vec3 vWorld[];
 out vec3 fWorld;
 

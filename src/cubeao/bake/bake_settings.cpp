@@ -4,7 +4,7 @@
 
 #include "cubeao/cache/depth_cube.h"
 #include "cubeao/core/error.h"
-#include "cubeao/reference/sampling.h"
+#include "cubeao/core/sampling.h"
 
 namespace cubeao {
 
@@ -85,7 +85,7 @@ CacheParams cacheParamsFor(const BakeSettings& s, std::uint64_t sceneHash) {
 }
 
 std::uint32_t texelKey(int face, int i, int j, int res, std::uint32_t probeIndex, std::uint32_t seed) {
-    return sampling::hashKey(std::uint32_t(i), std::uint32_t(face * res + j), probeIndex ^ seed);
+    return kernel::cubeTexelKey({i, j, face}, res, probeIndex ^ seed);
 }
 
 }  // namespace cubeao

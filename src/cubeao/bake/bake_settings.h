@@ -45,7 +45,8 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius);
 // threshold except for hybrid), so a cache is not refused for a setting that made no difference.
 CacheParams cacheParamsFor(const BakeSettings& s, std::uint64_t sceneHash);
 
-// Key of the per-texel rotation of sample sets: the same rays on every device.
+// Key of the per-texel rotation of sample sets: the same rays on every device (the shared kernel
+// cubeTexelKey, shaders/common/sampling.h, with probeKey = probeIndex ^ seed).
 std::uint32_t texelKey(int face, int i, int j, int res, std::uint32_t probeIndex, std::uint32_t seed);
 
 }  // namespace cubeao

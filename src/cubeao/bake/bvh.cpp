@@ -1,7 +1,6 @@
 #include "cubeao/bake/bvh.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -112,8 +111,7 @@ public:
             const glm::vec3 v0 = scene_.positions[scene_.indices[3 * t]];
             const glm::vec3 v1 = scene_.positions[scene_.indices[3 * t + 1]];
             const glm::vec3 v2 = scene_.positions[scene_.indices[3 * t + 2]];
-            bvh.triangles.push_back({glm::vec4(v0, std::bit_cast<float>(t)), glm::vec4(v1 - v0, 0.0f),
-                                     glm::vec4(v2 - v0, 0.0f)});
+            bvh.triangles.push_back({v0, t, v1 - v0, 0.0f, v2 - v0, 0.0f});
         }
         return bvh;
     }
@@ -191,111 +189,18 @@ private:
     std::vector<std::uint32_t> order_;  // BVH order → scene triangle, permuted in place by the build
 };
 
-// ---- traversal: the C++ twin of shaders/common/bvh.glsl; keep the two in step --------------------
-
-// "Missed the box": the largest finite float rather than infinity, which GLSL does not promise.
-constexpr float kMiss = std::numeric_limits<float>::max();
-// Direction components smaller than this are replaced by ±kTinyDir before inversion: 1/0 = ∞ would
-// turn (bound − org) · ∞ into NaN when the origin lies on a slab plane. 1/1e-20 = 1e20 keeps every
-// slab distance finite for coordinates below 1e18 and still acts as "parallel to the slab".
-constexpr float kTinyDir = 1e-20f;
-// Robust slab test (Ize, "Robust BVH Ray Traversal", JCGT 2013; pbrt-v4 §6.8.2): the exit distance,
-// rounded in three float operations, is pushed out by 1 + 2γ₃ ≈ 1 + 3.6e-7 so rounding never makes
-// a ray miss a box that contains its hit. The literal rounds to 1 + 3·2⁻²³ as float.
-constexpr float kSlabGrow = 1.00000036f;
-
-glm::vec3 safeInverse(const glm::vec3& d) {
-    glm::vec3 r;
-    for (int k = 0; k < 3; ++k) {
-        const float tiny = d[k] >= 0.0f ? kTinyDir : -kTinyDir;
-        r[k] = 1.0f / (std::abs(d[k]) > kTinyDir ? d[k] : tiny);
-    }
-    return r;
-}
-
-// Entry distance of the ray into the node's box within [tnear, tfar], or kMiss.
-// std::min/max pick the same operand as GLSL's min/max (the first unless the second is smaller/larger).
-float slabEntry(const BvhNode& node, const glm::vec3& org, const glm::vec3& invDir, float tnear, float tfar) {
-    const glm::vec3 t0 = (node.boundsMin - org) * invDir, t1 = (node.boundsMax - org) * invDir;
-    const glm::vec3 tlo = glm::min(t0, t1), thi = glm::max(t0, t1);
-    const float tEnter = std::max(std::max(tlo.x, tlo.y), std::max(tlo.z, tnear));
-    const float tExit = std::min(std::min(std::min(thi.x, thi.y), thi.z) * kSlabGrow, tfar);
-    return tEnter <= tExit ? tEnter : kMiss;
-}
-
-// Möller & Trumbore, "Fast, Minimum Storage Ray/Triangle Intersection", JGT 1997, without the
-// backface cull (AO is occluded by either side). det == 0: the ray lies in the triangle's plane.
-bool triangleHit(const BvhTriangle& tri, const glm::vec3& org, const glm::vec3& dir, float tnear, float tfar,
-                 float& t) {
-    const glm::vec3 e1(tri.e1), e2(tri.e2);
-    const glm::vec3 p = glm::cross(dir, e2);
-    const float det = glm::dot(e1, p);
-    if (det == 0.0f) return false;
-    const float invDet = 1.0f / det;
-    const glm::vec3 s = org - glm::vec3(tri.v0);
-    const float u = glm::dot(s, p) * invDet;
-    if (u < 0.0f || u > 1.0f) return false;
-    const glm::vec3 q = glm::cross(s, e1);
-    const float v = glm::dot(dir, q) * invDet;
-    if (v < 0.0f || u + v > 1.0f) return false;
-    t = glm::dot(e2, q) * invDet;
-    return t > tnear && t < tfar;
-}
-
-// Stack traversal, nearer child first, the farther one pushed if the ray enters it before the
-// current closest hit (J. Bikker, "How to build a BVH", part 2, 2022). Returns the BVH-order index.
-template <bool kAnyHit>
-bool traverse(const Bvh& bvh, const glm::vec3& org, const glm::vec3& dir, float tnear, float tfar, float& t,
-              std::uint32_t& triangle) {
-    t = tfar;
-    triangle = ~0u;
-    if (bvh.nodes.empty() || (bvh.nodes[0].count == 0 && bvh.nodes[0].leftOrFirst == 0)) return false;
-    const glm::vec3 invDir = safeInverse(dir);
-    if (slabEntry(bvh.nodes[0], org, invDir, tnear, t) == kMiss) return false;
-    std::uint32_t stack[kBvhMaxDepth];
-    std::uint32_t sp = 0, index = 0;
-    for (;;) {
-        const BvhNode& node = bvh.nodes[index];
-        if (node.count > 0) {
-            for (std::uint32_t i = node.leftOrFirst; i < node.leftOrFirst + node.count; ++i) {
-                float ti;
-                if (triangleHit(bvh.triangles[i], org, dir, tnear, t, ti)) {
-                    t = ti;
-                    triangle = i;
-                    if constexpr (kAnyHit) return true;
-                }
-            }
-            if (sp == 0) break;
-            index = stack[--sp];
-            continue;
-        }
-        std::uint32_t nearChild = node.leftOrFirst, farChild = nearChild + 1;
-        float dNear = slabEntry(bvh.nodes[nearChild], org, invDir, tnear, t);
-        float dFar = slabEntry(bvh.nodes[farChild], org, invDir, tnear, t);
-        if (dFar < dNear) {
-            std::swap(nearChild, farChild);
-            std::swap(dNear, dFar);
-        }
-        if (dNear == kMiss) {
-            if (sp == 0) break;
-            index = stack[--sp];
-            continue;
-        }
-        index = nearChild;
-        if (dFar != kMiss) stack[sp++] = farChild;
-    }
-    return triangle != ~0u;
-}
-
 }  // namespace
 
 Bvh buildBvh(const Scene& scene) { return Builder(scene).build(); }
 
+// The traversal is the shared kernel shaders/common/bvh.h (its GLSL compilation is the GPU bake's).
 BvhHit bvhIntersect(const Bvh& bvh, glm::vec3 org, glm::vec3 dir, float tnear, float tfar) {
     BvhHit hit;
     float t;
     std::uint32_t triangle;
-    if (!traverse<false>(bvh, org, dir, tnear, tfar, t, triangle)) return hit;
+    if (bvh.nodes.empty() ||
+        !kernel::bvhTrace({bvh.nodes.data(), bvh.triangles.data()}, org, dir, tnear, tfar, false, t, triangle))
+        return hit;
     hit.t = t;
     hit.triangle = bvh.primitive[triangle];
     hit.hit = true;
@@ -305,7 +210,8 @@ BvhHit bvhIntersect(const Bvh& bvh, glm::vec3 org, glm::vec3 dir, float tnear, f
 bool bvhOccluded(const Bvh& bvh, glm::vec3 org, glm::vec3 dir, float tnear, float tfar) {
     float t;
     std::uint32_t triangle;
-    return traverse<true>(bvh, org, dir, tnear, tfar, t, triangle);
+    return !bvh.nodes.empty() &&
+           kernel::bvhTrace({bvh.nodes.data(), bvh.triangles.data()}, org, dir, tnear, tfar, true, t, triangle);
 }
 
 std::uint32_t bvhDepth(const Bvh& bvh) {

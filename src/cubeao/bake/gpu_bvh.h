@@ -14,8 +14,9 @@ public:
     explicit GpuBvh(const Bvh& bvh);
 
     // Binds the node and triangle arrays to these indexed GL_SHADER_STORAGE_BUFFER points: the
-    // values the shader was built with for BVH_NODE_BINDING and BVH_TRIANGLE_BINDING.
-    void bind(GLuint nodeBinding, GLuint triangleBinding) const;
+    // values the shader was built with for BVH_NODE_BINDING and BVH_TRIANGLE_BINDING (bvh.glsl's
+    // defaults, common/bvh.h, unless it defined them).
+    void bind(GLuint nodeBinding = kernel::kBvhNodeBuffer, GLuint triangleBinding = kernel::kBvhTriangleBuffer) const;
 
     std::size_t nodeCount() const { return nodeCount_; }
     std::size_t triangleCount() const { return triangleCount_; }

@@ -1,5 +1,6 @@
-// Horizon estimators on a probe's cube G-buffer, per texel (DESIGN.md §4 "Bake"): the CPU twins of
-// shaders/common/horizon.glsl, used by the CPU bake path and by the tests that check the GPU pass.
+// Horizon estimators on a probe's cube G-buffer, per texel (DESIGN.md §4 "Bake"), for the CPU bake
+// path and the tests that check the GPU pass: the C++ face of the shared kernel
+// shaders/common/horizon.h, which shaders/bake/ao_horizon.comp compiles as GLSL.
 //
 // Both march in world space from the texel's surface point p out to the AO radius R and look the
 // cube map up *by direction from the probe*, so a march crosses face borders like any other texel
@@ -48,7 +49,8 @@ HorizonEstimate horizonSplitAo(const CubeGBuffer& g, const glm::vec3& p, const g
                                std::uint32_t key);
 
 // GTAO (Jimenez et al. 2016, paper 002, eq. 10 with the projected-normal weight): N_d/2 slices around
-// the direction to the probe (the "view" vector), two horizons per slice.
+// the direction to the probe (the "view" vector), two horizons per slice, normalised by the open
+// hemisphere's slice integrals as the screen-space GTAO is (shaders/common/gtao.h): an open plane reads 1.
 HorizonEstimate gtaoAo(const CubeGBuffer& g, const glm::vec3& p, const glm::vec3& n, const BakeSettings& s,
                        std::uint32_t key);
 

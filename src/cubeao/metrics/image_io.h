@@ -15,7 +15,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "cubeao/metrics/image.h"
+#include "cubeao/core/image.h"
 
 namespace cubeao {
 

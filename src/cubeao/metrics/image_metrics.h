@@ -23,7 +23,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cubeao/metrics/image.h"
+#include "cubeao/core/image.h"
 
 namespace cubeao {
 

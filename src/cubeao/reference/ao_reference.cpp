@@ -10,23 +10,9 @@
 
 #include "cubeao/core/error.h"
 #include "cubeao/core/progress.h"
-#include "cubeao/reference/sampling.h"
+#include "cubeao/core/sampling.h"
 
 namespace cubeao {
-
-Falloff parseFalloff(const std::string& name) {
-    if (name == "none") return Falloff::None;
-    if (name == "smooth") return Falloff::Smooth;
-    throw UsageError("--falloff \"" + name + "\": expected none or smooth");
-}
-
-const char* falloffName(Falloff f) { return f == Falloff::Smooth ? "smooth" : "none"; }
-
-float occlusionWeight(Falloff falloff, float t, float radius) {
-    if (falloff == Falloff::None) return 1.0f;
-    const float x = t / radius, w = 1.0f - x * x;
-    return w * w;
-}
 
 AoEstimate ambientOcclusion(const EmbreeScene& scene, const glm::vec3& p, const glm::vec3& n,
                             const AoSettings& settings, std::uint32_t key) {

@@ -7,7 +7,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "cubeao/metrics/image.h"
+#include "cubeao/core/falloff.h"
+#include "cubeao/core/image.h"
 #include "cubeao/reference/embree_scene.h"
 #include "cubeao/scene/camera_path.h"
 
@@ -15,22 +16,12 @@ namespace cubeao {
 
 class Progress;
 
-enum class Falloff {
-    None,    // V_R = 1 for any hit closer than R
-    Smooth,  // a hit at distance t occludes with weight (1 − (t/R)²)², fading to 0 at R
-};
-Falloff parseFalloff(const std::string& name);  // "none" | "smooth"; UsageError otherwise
-const char* falloffName(Falloff f);
-
 struct AoSettings {
     float radius = 0.0f;  // world units, > 0 (commands resolve 0 to the scene default: 2 % of the bbox diagonal)
     int spp = 64;         // rays per pixel or texel
     Falloff falloff = Falloff::None;
     std::uint32_t seed = 0;  // changes every pixel's rotation of the sample set
 };
-
-// Occlusion weight of a hit at distance t < radius.
-float occlusionWeight(Falloff falloff, float t, float radius);
 
 struct AoEstimate {
     float ao = 1.0f;

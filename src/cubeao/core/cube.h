@@ -1,15 +1,15 @@
-// Cube-map conventions shared by every part of the bake: face order, texel ↔ direction, and the
-// projection that rasterises a face. They follow the OpenGL cube-map selection table (GL 4.5 core,
-// §8.13.1, table 8.19) so a GL cube map and our own lookups agree. Twin: shaders/common/cube.glsl
-// (tests/test_cube_gl.cpp keeps the two in step).
+// Cube-map conventions in C++: the shared kernel (shaders/common/cube.h: face order, texel ↔
+// direction, GL 4.5 §8.13.1 table 8.19) in the cube:: names the C++ code uses, plus what only the CPU
+// needs: texel indices, solid angles and the projection that rasterises a face. tests/test_bake_gl.cpp
+// runs the same kernel on the GPU against this compilation of it.
 //
 // Face f, texel (i, j) of a res × res face covers s ∈ [i, i+1)/res, t ∈ [j, j+1)/res; its centre
 // direction is faceDirection(f, 2·(i+0.5)/res − 1, 2·(j+0.5)/res − 1). Texel (i, j) is pixel (i, j)
 // of the framebuffer that rasterises the face (row j = 0 at the bottom, as glReadPixels returns it).
 #pragma once
 
-#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include <glm/geometric.hpp>
@@ -17,9 +17,11 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "common/cube.h"
+
 namespace cubeao::cube {
 
-constexpr int kFaces = 6;  // +X, −X, +Y, −Y, +Z, −Z (GL_TEXTURE_CUBE_MAP_POSITIVE_X + f)
+constexpr int kFaces = kernel::kCubeFaces;  // +X, −X, +Y, −Y, +Z, −Z (GL_TEXTURE_CUBE_MAP_POSITIVE_X + f)
 
 // Where a direction lands: face and (sc, tc) ∈ [−1, 1]² before the (·+1)/2 of the GL table.
 struct FacePoint {
@@ -27,44 +29,22 @@ struct FacePoint {
     glm::vec2 sc{0.0f};
 };
 
-// Major axis with a fixed tie rule (x before y before z), the same in GLSL, so CPU and GPU pick the
-// same face for directions exactly on a cube edge.
 inline FacePoint faceOf(const glm::vec3& d) {
-    const glm::vec3 a = glm::abs(d);
-    if (a.x >= a.y && a.x >= a.z)
-        return d.x >= 0.0f ? FacePoint{0, glm::vec2(-d.z, -d.y) / a.x} : FacePoint{1, glm::vec2(d.z, -d.y) / a.x};
-    if (a.y >= a.z)
-        return d.y >= 0.0f ? FacePoint{2, glm::vec2(d.x, d.z) / a.y} : FacePoint{3, glm::vec2(d.x, -d.z) / a.y};
-    return d.z >= 0.0f ? FacePoint{4, glm::vec2(d.x, -d.y) / a.z} : FacePoint{5, glm::vec2(-d.x, -d.y) / a.z};
+    FacePoint fp;
+    fp.face = kernel::cubeFaceOf(d, fp.sc);
+    return fp;
 }
 
-// Inverse of faceOf: an (unnormalised) direction whose major component is ±1.
-inline glm::vec3 faceDirection(int face, const glm::vec2& sc) {
-    switch (face) {
-        case 0: return {1.0f, -sc.y, -sc.x};
-        case 1: return {-1.0f, -sc.y, sc.x};
-        case 2: return {sc.x, 1.0f, sc.y};
-        case 3: return {sc.x, -1.0f, -sc.y};
-        case 4: return {sc.x, -sc.y, 1.0f};
-        default: return {-sc.x, -sc.y, -1.0f};
-    }
-}
+inline glm::vec3 faceDirection(int face, const glm::vec2& sc) { return kernel::cubeFaceDirection(face, sc); }
 
-inline glm::vec2 texelCentre(int i, int j, int res) {
-    return {2.0f * (float(i) + 0.5f) / float(res) - 1.0f, 2.0f * (float(j) + 0.5f) / float(res) - 1.0f};
-}
+inline glm::vec2 texelCentre(int i, int j, int res) { return kernel::cubeTexelCentre({i, j}, res); }
 
-inline glm::vec3 texelDirection(int face, int i, int j, int res) {
-    return glm::normalize(faceDirection(face, texelCentre(i, j, res)));
-}
+inline glm::vec3 texelDirection(int face, int i, int j, int res) { return kernel::cubeTexelDirection(face, {i, j}, res); }
 
-// Texel a face point falls in (clamped: sc = 1 belongs to the last texel).
-inline glm::ivec2 texelOf(const glm::vec2& sc, int res) {
-    const auto index = [res](float c) { return std::clamp(int(std::floor((c + 1.0f) * 0.5f * float(res))), 0, res - 1); };
-    return {index(sc.x), index(sc.y)};
-}
+inline glm::ivec2 texelOf(const glm::vec2& sc, int res) { return kernel::cubeTexelOf(sc, res); }
 
-// Linear index of a texel in the six-face array: faces in order, rows bottom-up, texels left-right.
+// Linear index of a texel in the six-face array: faces in order, rows bottom-up, texels left-right
+// (kernel::cubeTexelIndex, widened: a six-face array at 16K² passes 2³²).
 inline std::size_t texelIndex(int face, int i, int j, int res) {
     return (std::size_t(face) * std::size_t(res) + std::size_t(j)) * std::size_t(res) + std::size_t(i);
 }
