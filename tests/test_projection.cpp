@@ -3,12 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
-#include "cubeao/bake/cube.h"
+#include "cubeao/core/cube.h"
 #include "cubeao/runtime/projection.h"
 
 namespace {
@@ -110,6 +111,18 @@ TEST(ProjectionBlend, ContinuousWhenProbesSwapRank) {
     // variation over metres changes by ~0.003 per step; texel-centre quantisation of the footprint
     // adds little. Bound: 0.01.
     EXPECT_LT(largestStep, 0.01f);
+}
+
+// The shared kernel (shaders/common/projection.h) reads every candidate at one res and depthRes, as
+// the GPU pass reads one cache; probes of two caches are refused rather than read at the wrong texel.
+TEST(ProjectionBlend, CandidatesMustShareOneResolution) {
+    const ProjectSettings s = resolveProjectSettings({});
+    const SyntheticProbe a({0, 1, 0}, 32, 0.2f, 1.0f, 16, 10.0f), b({0, 2, 0}, 16, 0.8f, 1.0f, 16, 10.0f),
+        c({0, 2, 0}, 32, 0.8f, 1.0f, 8, 10.0f);
+    const DecodedProbe resMismatch[] = {a.view, b.view}, depthMismatch[] = {a.view, c.view};
+    EXPECT_THROW(projectAo(resMismatch, {0, 0, 0}, {0, 1, 0}, s), std::invalid_argument);
+    EXPECT_THROW(projectAo(depthMismatch, {0, 0, 0}, {0, 1, 0}, s), std::invalid_argument);
+    EXPECT_FALSE(projectAo({}, {0, 0, 0}, {0, 1, 0}, s).covered);
 }
 
 }  // namespace

@@ -5,21 +5,22 @@
 // projected at p's depth, jitter ∈ [0, 1)² per pixel and frame; it returns AO in [0, 1], 1 = open.
 #pragma once
 
-#include "camera.glsl"
-#include "constants.glsl"
-#include "falloff.glsl"
-#include "sampling.glsl"
+#include "camera.h"
+#include "constants.h"
+#include "falloff.h"
+#include "runtime_layout.h"
+#include "sampling.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = kPixelGroupSize, local_size_y = kPixelGroupSize) in;
 
-layout(binding = 0) uniform sampler2D gDepth;   // view depth, 0 = no geometry
-layout(binding = 1) uniform sampler2D gNormal;  // view-space normal facing the camera
-layout(r32f, binding = 0) writeonly uniform image2D aoOut;
-// G-buffer fetches made, as a 64-bit count in two words (a 4K frame at 64 samples passes 2³²).
-layout(std430, binding = 4) buffer FetchCount { uint fetchesLow, fetchesHigh; };
+layout(binding = kGBufferDepthUnit) uniform sampler2D gDepth;
+layout(binding = kGBufferNormalUnit) uniform sampler2D gNormal;
+layout(r32f, binding = kAoImageUnit) writeonly uniform image2D aoOut;
+// G-buffer fetches made (counters.uncovered stays 0: every pixel gets an estimate).
+layout(std430, binding = kPassCountersBuffer) buffer Counters { PassCounters counters; };
 
 uniform float radius;           // R, world units
-uniform int falloff;            // FALLOFF_NONE | FALLOFF_SMOOTH (falloff.glsl)
+uniform int falloff;            // FALLOFF_NONE | FALLOFF_SMOOTH (falloff.h)
 uniform int directions;         // N_d
 uniform int steps;              // N_s
 uniform float maxRadiusPixels;  // 0 = no clamp
@@ -74,7 +75,7 @@ void main() {
     atomicAdd(groupFetches, fetches);
     barrier();
     if (gl_LocalInvocationIndex == 0u) {
-        uint before = atomicAdd(fetchesLow, groupFetches);
-        if (before + groupFetches < before) atomicAdd(fetchesHigh, 1u);  // carry
+        uint before = atomicAdd(counters.fetchesLow, groupFetches);
+        if (before + groupFetches < before) atomicAdd(counters.fetchesHigh, 1u);  // carry
     }
 }

@@ -1,15 +1,17 @@
 #version 450 core
 // One pass of the separable edge-aware AO blur (src/cubeao/runtime/blur.h): 2·radius + 1 taps along
-// `axis`, a Gaussian (σ = radius/2) times the bilateral weight of each tap. Twin: blurAoCpu in blur.cpp.
-layout(local_size_x = 8, local_size_y = 8) in;
+// `axis`, the spatial times the bilateral weight of common/bilateral.h for each tap. Twin: blurAoCpu in
+// blur.cpp (same weights; its tap loop reads an Image instead of textures).
+#include "bilateral.h"
+#include "camera.h"
+#include "runtime_layout.h"
 
-#include "bilateral.glsl"
-#include "camera.glsl"
+layout(local_size_x = kPixelGroupSize, local_size_y = kPixelGroupSize) in;
 
-layout(binding = 0) uniform sampler2D gDepth;
-layout(binding = 1) uniform sampler2D gNormal;
-layout(binding = 2) uniform sampler2D aoIn;
-layout(r32f, binding = 0) writeonly uniform image2D aoOut;
+layout(binding = kGBufferDepthUnit) uniform sampler2D gDepth;
+layout(binding = kGBufferNormalUnit) uniform sampler2D gNormal;
+layout(binding = kAoInputUnit) uniform sampler2D aoIn;
+layout(r32f, binding = kAoImageUnit) writeonly uniform image2D aoOut;
 
 uniform ivec2 axis;  // (1, 0) horizontal, (0, 1) vertical
 uniform int radius;
@@ -25,13 +27,12 @@ void main() {
         vec3 nc = texelFetch(gNormal, c, 0).xyz;
         vec3 pc = viewPosition(c, zc);
         float sum = ao, weights = 1.0;
-        float sigma = 0.5 * float(radius);
         for (int i = -radius; i <= radius; ++i) {
             ivec2 s = c + i * axis;
             if (i == 0 || !onScreen(s)) continue;
             float zs = texelFetch(gDepth, s, 0).r;
             if (!(zs > 0.0)) continue;
-            float w = exp(-float(i * i) / (2.0 * sigma * sigma)) *
+            float w = bilateralSpatialWeight(i, radius) *
                       bilateralWeight(nc, pc, zc, texelFetch(gNormal, s, 0).xyz, viewPosition(s, zs), normalPower,
                                       depthTolerance);
             sum += w * texelFetch(aoIn, s, 0).r;

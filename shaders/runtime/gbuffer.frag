@@ -2,7 +2,9 @@
 // Camera G-buffer, fragment stage: view depth of the surface at the pixel centre (perspective-correct
 // interpolation of the view position) and the triangle's geometric normal in view space, turned to
 // face the camera (open architecture is two-sided, as in the reference and the bake).
-layout(std430, binding = 0) readonly buffer TriangleNormals { vec4 triangleNormal[]; };  // world space
+#include "runtime_layout.h"
+
+layout(std430, binding = kTriangleNormalsBuffer) readonly buffer TriangleNormals { vec4 triangleNormal[]; };  // world space
 uniform mat3 viewFromWorldRotation;
 in vec3 fView;
 layout(location = 0) out float depth;

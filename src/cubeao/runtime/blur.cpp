@@ -1,10 +1,10 @@
 #include "cubeao/runtime/blur.h"
 
-#include <algorithm>
-#include <cmath>
 #include <string>
 #include <vector>
 
+#include "common/bilateral.h"
+#include "common/runtime_layout.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/shader.h"
 
@@ -24,17 +24,11 @@ void validateBlurSettings(const BlurSettings& s) {
 
 float bilateralWeight(const glm::vec3& centreNormal, const glm::vec3& centrePoint, float centreDepth,
                       const glm::vec3& tapNormal, const glm::vec3& tapPoint, const BlurSettings& s) {
-    const float normalTerm = std::pow(std::max(0.0f, 0.5f * (glm::dot(centreNormal, tapNormal) + 1.0f)), s.normalPower);
-    const float planeDistance = std::abs(glm::dot(centreNormal, tapPoint - centrePoint));
-    const float depthTerm = std::max(0.0f, 1.0f - planeDistance / (s.depthTolerance * centreDepth));
-    return normalTerm * depthTerm;
+    return kernel::bilateralWeight(centreNormal, centrePoint, centreDepth, tapNormal, tapPoint, s.normalPower,
+                                   s.depthTolerance);
 }
 
-float spatialWeight(int tap, int radius) {
-    if (radius == 0) return 1.0f;
-    const float sigma = 0.5f * float(radius);
-    return std::exp(-float(tap * tap) / (2.0f * sigma * sigma));
-}
+float spatialWeight(int tap, int radius) { return kernel::bilateralSpatialWeight(tap, radius); }
 
 namespace {
 
@@ -94,15 +88,15 @@ void Blur::run(const CameraGBuffer& gbuffer, const CameraView& view, GLuint inpu
     glProgramUniform2i(p, glGetUniformLocation(p, "frameSize"), w, h);
     glProgramUniform1f(p, glGetUniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
     glUseProgram(p);
-    glBindTextureUnit(0, gbuffer.depthTexture());
-    glBindTextureUnit(1, gbuffer.normalTexture());
-    const GLuint groupsX = GLuint((w + 7) / 8), groupsY = GLuint((h + 7) / 8);
+    glBindTextureUnit(kernel::kGBufferDepthUnit, gbuffer.depthTexture());
+    glBindTextureUnit(kernel::kGBufferNormalUnit, gbuffer.normalTexture());
+    const GLuint groupsX = kernel::pixelGroups(w), groupsY = kernel::pixelGroups(h);
     const GLint axisLocation = glGetUniformLocation(p, "axis");
     const GLuint passes[2][2] = {{input, intermediate_.id()}, {intermediate_.id(), output}};
     for (int pass = 0; pass < 2; ++pass) {
         glProgramUniform2i(p, axisLocation, pass == 0 ? 1 : 0, pass == 0 ? 0 : 1);
-        glBindTextureUnit(2, passes[pass][0]);
-        glBindImageTexture(0, passes[pass][1], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        glBindTextureUnit(kernel::kAoInputUnit, passes[pass][0]);
+        glBindImageTexture(kernel::kAoImageUnit, passes[pass][1], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
         glDispatchCompute(groupsX, groupsY, 1);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }

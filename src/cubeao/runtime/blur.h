@@ -15,11 +15,12 @@
 //    at a grazing angle (a floor down a corridor) blurs like a facing one, while a step between two
 //    surfaces more than τ·z_c apart gets weight exactly 0: no AO crosses such an edge.
 // Pixels without geometry are neither blurred nor used as taps. blurAoCpu is the CPU twin (tests
-// compare the two to 1e-4).
+// compare the two to 1e-4); its weights are the shader's (shaders/common/bilateral.h), the tap loop is
+// written again here because the shader's reads are texture fetches and the twin's an Image.
 #pragma once
 
 #include "cubeao/gl/handles.h"
-#include "cubeao/metrics/image.h"
+#include "cubeao/core/image.h"
 #include "cubeao/runtime/camera_gbuffer.h"
 #include "cubeao/runtime/camera_view.h"
 
@@ -34,12 +35,12 @@ struct BlurSettings {
 // Checks ranges, listing every problem in one UsageError.
 void validateBlurSettings(const BlurSettings& s);
 
-// Weight of tap s for centre c (both with geometry): the normal and depth terms above. Shared by the
-// CPU twin and, line for line, shaders/common/bilateral.glsl.
+// Weight of tap s for centre c (both with geometry): the normal and depth terms above, the kernel of
+// shaders/common/bilateral.h that blur.comp compiles too.
 float bilateralWeight(const glm::vec3& centreNormal, const glm::vec3& centrePoint, float centreDepth,
                       const glm::vec3& tapNormal, const glm::vec3& tapPoint, const BlurSettings& s);
 
-// The spatial term of tap i for `radius` (1 for radius 0).
+// The spatial term of tap i for `radius` (1 for radius 0): bilateral.h's bilateralSpatialWeight.
 float spatialWeight(int tap, int radius);
 
 // CPU twin of Blur::run: both passes on a read-back G-buffer.

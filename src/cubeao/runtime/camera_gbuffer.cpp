@@ -4,6 +4,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/vec4.hpp>
 
+#include "common/runtime_layout.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/shader.h"
 
@@ -68,7 +69,7 @@ void CameraGBuffer::render(const CameraView& view) {
                               glm::value_ptr(clip));
     glProgramUniformMatrix3fv(program_.id(), glGetUniformLocation(program_.id(), "viewFromWorldRotation"), 1,
                               GL_FALSE, glm::value_ptr(rotation));
-    mesh_.bind(0);
+    mesh_.bind(kernel::kTriangleNormalsBuffer);
     mesh_.draw();
 
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -8,7 +8,8 @@
 //    centres sit at (x + 0.5, y + 0.5). Camera G-buffer texels use the same indices (texel row 0 =
 //    image top), so no pass ever flips rows.
 //  - "View depth" z is the distance along the view axis (−view.z > 0); 0 marks "no geometry".
-// The GLSL twin of pixelRay/projectToPixel is shaders/common/camera.glsl.
+// pixelRay, viewPosition and focalPixels are the shared kernels of shaders/common/camera.h, which the
+// screen-space shaders compile too; projectToPixel and the matrices are C++ only.
 #pragma once
 
 #include <glm/geometric.hpp>
@@ -18,7 +19,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "cubeao/scene/camera_path.h"
+#include "common/camera.h"
+#include "cubeao/core/camera.h"
 
 namespace cubeao {
 
@@ -50,18 +52,17 @@ struct CameraView {
 
     float aspect() const { return float(width) / float(height); }
     // Pixels per view-space unit at view depth 1 (the focal length in pixels).
-    float focalPixels() const { return 0.5f * float(height) / tanHalfFovY; }
+    float focalPixels() const { return kernel::cameraFocalPixels({width, height}, tanHalfFovY); }
     glm::mat3 viewFromWorldRotation() const { return glm::mat3(viewFromWorld); }
     glm::mat4 worldFromView() const { return glm::inverse(viewFromWorld); }
 
     // View-space ray through the centre of pixel (x, y) with z = −1 (so viewPosition = ray · depth).
-    // Written exactly as PinholeCamera::rayDirection so the two agree to rounding.
     glm::vec3 pixelRay(float x, float y) const {
-        const float sx = (2.0f * (x + 0.5f) / float(width) - 1.0f) * tanHalfFovY * aspect();
-        const float sy = (1.0f - 2.0f * (y + 0.5f) / float(height)) * tanHalfFovY;
-        return {sx, sy, -1.0f};
+        return kernel::cameraPixelRay({width, height}, tanHalfFovY, {x + 0.5f, y + 0.5f});
     }
-    glm::vec3 viewPosition(int x, int y, float depth) const { return pixelRay(float(x), float(y)) * depth; }
+    glm::vec3 viewPosition(int x, int y, float depth) const {
+        return kernel::cameraViewPosition({width, height}, tanHalfFovY, {x, y}, depth);
+    }
     // Continuous pixel coordinates (centre of pixel (x, y) = (x + 0.5, y + 0.5)) of a view-space
     // point in front of the camera.
     glm::vec2 projectToPixel(const glm::vec3& v) const {

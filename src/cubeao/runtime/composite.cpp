@@ -6,6 +6,8 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "common/composite.h"
+#include "common/runtime_layout.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/shader.h"
 
@@ -22,8 +24,7 @@ glm::vec3 defaultLightDirection(const glm::vec3& up) {
 }
 
 glm::vec3 compositePixel(const glm::vec3& normal, const glm::vec3& light, float ao, const CompositeSettings& s) {
-    const glm::vec3 direct = s.albedo * (s.ambient + s.diffuse * std::max(0.0f, glm::dot(normal, light)));
-    return glm::clamp(direct * ((1.0f - s.alpha) + s.alpha * ao), glm::vec3(0.0f), glm::vec3(1.0f));
+    return kernel::compositeColour(normal, light, ao, s.albedo, s.ambient, s.diffuse, s.alpha);
 }
 
 Composite::Composite(const CompositeSettings& settings) : settings_(settings) {
@@ -45,11 +46,11 @@ void Composite::run(const CameraGBuffer& gbuffer, const CameraView& view, GLuint
     glProgramUniform2i(p, glGetUniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
     glProgramUniform3fv(p, glGetUniformLocation(p, "light"), 1, glm::value_ptr(light));
     glUseProgram(p);
-    glBindTextureUnit(0, gbuffer.depthTexture());
-    glBindTextureUnit(1, gbuffer.normalTexture());
-    glBindTextureUnit(2, ao);
-    glBindImageTexture(0, output, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
-    glDispatchCompute(GLuint((gbuffer.width() + 7) / 8), GLuint((gbuffer.height() + 7) / 8), 1);
+    glBindTextureUnit(kernel::kGBufferDepthUnit, gbuffer.depthTexture());
+    glBindTextureUnit(kernel::kGBufferNormalUnit, gbuffer.normalTexture());
+    glBindTextureUnit(kernel::kAoInputUnit, ao);
+    glBindImageTexture(kernel::kShadedImageUnit, output, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glDispatchCompute(kernel::pixelGroups(gbuffer.width()), kernel::pixelGroups(gbuffer.height()), 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 

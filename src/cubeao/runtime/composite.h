@@ -24,7 +24,7 @@ struct CompositeSettings {
 // A light from high up (60° elevation) at a fixed azimuth around the scene's `up`.
 glm::vec3 defaultLightDirection(const glm::vec3& up);
 
-// One lit pixel (view-space normal and light), the twin of shaders/runtime/composite.comp.
+// One lit pixel (view-space normal and light): shaders/common/composite.h, which composite.comp compiles too.
 glm::vec3 compositePixel(const glm::vec3& normal, const glm::vec3& light, float ao, const CompositeSettings& s);
 
 class Composite {

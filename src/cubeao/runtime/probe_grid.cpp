@@ -8,12 +8,14 @@
 
 #include <glm/geometric.hpp>
 
-#include "cubeao/reference/sampling.h"
+#include "common/projection.h"
+#include "common/runtime_layout.h"
+#include "cubeao/core/sampling.h"
 
 namespace cubeao {
 namespace {
 
-constexpr std::uint32_t kNone = 0xffffffffu;
+constexpr std::uint32_t kNone = kernel::kNoProbe;
 
 // Uniform in [0, 1) from a triangle index and a counter (sampling.h's hash: deterministic).
 float unit(std::uint32_t triangle, std::uint32_t counter) {
@@ -152,7 +154,7 @@ ProbeGrid::ProbeGrid(const glm::vec3& boundsMin, const glm::vec3& boundsMax, std
 }
 
 std::size_t ProbeGrid::cellOf(const glm::vec3& x) const {
-    const glm::ivec3 c = glm::clamp(glm::ivec3(glm::floor((x - origin_) / cell_)), glm::ivec3(0), dims_ - 1);
+    const glm::ivec3 c = kernel::candidateCellOf(x, origin_, cell_, dims_);  // the cell project.comp reads
     return (std::size_t(c.z) * std::size_t(dims_.y) + std::size_t(c.y)) * std::size_t(dims_.x) + std::size_t(c.x);
 }
 

@@ -57,7 +57,8 @@ public:
     // Candidates of the cell containing x (clamped to the grid): up to K probe indices, best first.
     std::span<const std::uint32_t> candidates(const glm::vec3& x) const;
 
-    // GPU layout: cells in x-fastest order, K entries each, unused entries = 0xffffffff.
+    // GPU layout: cells in x-fastest order, K entries each, unused entries = kernel::kNoProbe
+    // (shaders/common/runtime_layout.h).
     const std::vector<std::uint32_t>& table() const { return table_; }
     glm::ivec3 dims() const { return dims_; }
     glm::vec3 origin() const { return origin_; }

@@ -6,9 +6,8 @@
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
-#include <glm/vec4.hpp>
 
-#include "cubeao/bake/cube.h"
+#include "common/runtime_layout.h"
 #include "cubeao/cache/depth_cube.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/shader.h"
@@ -21,6 +20,13 @@ GLenum depthInternalFormat(DepthFormat f) {
 }
 GLenum depthType(DepthFormat f) {
     return f == DepthFormat::R16Unorm ? GL_UNSIGNED_SHORT : f == DepthFormat::R16Float ? GL_HALF_FLOAT : GL_FLOAT;
+}
+
+// Location of a uniform the shader must use: a name that drifted from project.comp fails loudly.
+GLint uniformLocation(GLuint program, const char* name) {
+    const GLint location = glGetUniformLocation(program, name);
+    if (location < 0) throw Error(std::string("runtime/project.comp: no active uniform ") + name);
+    return location;
 }
 
 GLint glInteger(GLenum name) {
@@ -64,7 +70,7 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, std::span<con
     glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // distance rows are 2 · depthRes bytes: odd depthRes is not 4-aligned
 
-    std::vector<glm::vec4> probeTable(n);
+    std::vector<kernel::ProbeEntry> probeTable(n);
     std::vector<glm::vec3> positions(n);
     std::vector<std::vector<float>> distances(n);  // decoded, for the grid's visibility tests
     for (std::size_t i = 0; i < n; ++i) {
@@ -77,7 +83,7 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, std::span<con
         glTextureSubImage3D(distance_.id(), 0, tx * depthRes_, ty * depthRes_, layer, depthRes_, depthRes_, 6, GL_RED,
                             depthType(params.depthFormat), p.depth.data());
         const float scale = params.depthFormat == DepthFormat::R16Unorm ? p.maxDistance : 1.0f;
-        probeTable[i] = glm::vec4(p.position, scale);
+        probeTable[i] = {p.position, scale};
         positions[i] = p.position;
         if (!depth::decode(p.depth, depthRes_, params.depthFormat, p.maxDistance, distances[i]))
             throw Error("probe " + std::to_string(p.index) + ": distance cube has the wrong size");
@@ -98,67 +104,75 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, std::span<con
     candidates_ = grid_->k();
 
     probes_ = gl::Buffer::create();
-    glNamedBufferStorage(probes_.id(), GLsizeiptr(probeTable.size() * sizeof(glm::vec4)), probeTable.data(), 0);
+    glNamedBufferStorage(probes_.id(), GLsizeiptr(probeTable.size() * sizeof(kernel::ProbeEntry)), probeTable.data(), 0);
     cells_ = gl::Buffer::create();
     glNamedBufferStorage(cells_.id(), GLsizeiptr(grid_->table().size() * sizeof(std::uint32_t)), grid_->table().data(), 0);
     counters_ = gl::Buffer::create();
-    glNamedBufferStorage(counters_.id(), 3 * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(counters_.id(), sizeof(kernel::PassCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
     const std::size_t faceTiles = std::size_t(6 * atlas_.pages) * std::size_t(atlas_.tilesPerPage());
     gpuBytes_ = faceTiles * std::size_t(res_ * res_) /* BC5: 1 byte per texel */ +
                 faceTiles * std::size_t(depthRes_ * depthRes_) * depthBytesPerTexel(params.depthFormat) +
-                probeTable.size() * sizeof(glm::vec4) + grid_->table().size() * sizeof(std::uint32_t);
+                probeTable.size() * sizeof(kernel::ProbeEntry) + grid_->table().size() * sizeof(std::uint32_t);
 
     program_ = gl::compileComputeProgram("runtime/project.comp");
     const GLuint p = program_.id();
-    glProgramUniform3fv(p, glGetUniformLocation(p, "gridOrigin"), 1, glm::value_ptr(grid_->origin()));
-    glProgramUniform1f(p, glGetUniformLocation(p, "cellSize"), grid_->cellSize());
-    glProgramUniform3iv(p, glGetUniformLocation(p, "gridDims"), 1, glm::value_ptr(grid_->dims()));
-    glProgramUniform1i(p, glGetUniformLocation(p, "candidatesPerCell"), candidates_);
-    glProgramUniform1i(p, glGetUniformLocation(p, "res"), res_);
-    glProgramUniform1i(p, glGetUniformLocation(p, "depthRes"), depthRes_);
-    glProgramUniform1i(p, glGetUniformLocation(p, "tilesX"), atlas_.tilesX);
-    glProgramUniform1i(p, glGetUniformLocation(p, "tilesPerPage"), atlas_.tilesPerPage());
-    glProgramUniform1f(p, glGetUniformLocation(p, "depthTolerance"), project.depthTolerance);
-    glProgramUniform1f(p, glGetUniformLocation(p, "depthSlope"), project.depthSlope);
-    glProgramUniform1f(p, glGetUniformLocation(p, "minFacing"), project.minFacing);
+    glProgramUniform3fv(p, uniformLocation(p, "gridOrigin"), 1, glm::value_ptr(grid_->origin()));
+    glProgramUniform1f(p, uniformLocation(p, "cellSize"), grid_->cellSize());
+    glProgramUniform3iv(p, uniformLocation(p, "gridDims"), 1, glm::value_ptr(grid_->dims()));
+    glProgramUniform1i(p, uniformLocation(p, "candidatesPerCell"), candidates_);
+    glProgramUniform1i(p, uniformLocation(p, "tilesX"), atlas_.tilesX);
+    glProgramUniform1i(p, uniformLocation(p, "tilesPerPage"), atlas_.tilesPerPage());
+    // kernel::ProjectionParams, member by member (a plain uniform struct has no buffer layout).
+    glProgramUniform1f(p, uniformLocation(p, "params.depthTolerance"), project.depthTolerance);
+    glProgramUniform1f(p, uniformLocation(p, "params.depthSlope"), project.depthSlope);
+    glProgramUniform1f(p, uniformLocation(p, "params.minFacing"), project.minFacing);
+    glProgramUniform1i(p, uniformLocation(p, "params.res"), res_);
+    glProgramUniform1i(p, uniformLocation(p, "params.depthRes"), depthRes_);
 }
 
 ProbeProjectionPass::~ProbeProjectionPass() = default;
 
 void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t, GLuint aoImage) {
     const GLuint p = program_.id();
-    const std::uint32_t zero[3] = {0u, 0u, 0u};
-    glNamedBufferSubData(counters_.id(), 0, sizeof zero, zero);
-    glProgramUniform2i(p, glGetUniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
-    glProgramUniform1f(p, glGetUniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
+    const kernel::PassCounters zero{};
+    glNamedBufferSubData(counters_.id(), 0, sizeof zero, &zero);
+    glProgramUniform2i(p, uniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
+    glProgramUniform1f(p, uniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
     const glm::mat4 worldFromView = view.worldFromView();
-    glProgramUniformMatrix4fv(p, glGetUniformLocation(p, "worldFromView"), 1, GL_FALSE, glm::value_ptr(worldFromView));
+    glProgramUniformMatrix4fv(p, uniformLocation(p, "worldFromView"), 1, GL_FALSE, glm::value_ptr(worldFromView));
     glUseProgram(p);
-    glBindTextureUnit(0, gbuffer.depthTexture());
-    glBindTextureUnit(1, gbuffer.normalTexture());
-    glBindTextureUnit(2, ao_.id());
-    glBindTextureUnit(3, distance_.id());
-    glBindImageTexture(0, aoImage, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, counters_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, probes_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, cells_.id());
-    glDispatchCompute(GLuint((gbuffer.width() + 7) / 8), GLuint((gbuffer.height() + 7) / 8), 1);
+    glBindTextureUnit(kernel::kGBufferDepthUnit, gbuffer.depthTexture());
+    glBindTextureUnit(kernel::kGBufferNormalUnit, gbuffer.normalTexture());
+    glBindTextureUnit(kernel::kProbeAoUnit, ao_.id());
+    glBindTextureUnit(kernel::kProbeDistanceUnit, distance_.id());
+    glBindImageTexture(kernel::kAoImageUnit, aoImage, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kPassCountersBuffer, counters_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kProbeTableBuffer, probes_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kCandidateBuffer, cells_.id());
+    glDispatchCompute(kernel::pixelGroups(gbuffer.width()), kernel::pixelGroups(gbuffer.height()), 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     pixels_ = double(gbuffer.width()) * double(gbuffer.height());
 }
 
+namespace {
+
+kernel::PassCounters readCounters(const gl::Buffer& buffer) {
+    kernel::PassCounters c{};
+    glGetNamedBufferSubData(buffer.id(), 0, sizeof c, &c);
+    return c;
+}
+
+}  // namespace
+
 double ProbeProjectionPass::fetchesPerPixel() const {
     if (pixels_ == 0.0) return 0.0;
-    std::uint32_t words[3] = {0u, 0u, 0u};
-    glGetNamedBufferSubData(counters_.id(), 0, sizeof words, words);
-    return double(std::uint64_t(words[2]) << 32 | words[1]) / pixels_;
+    const kernel::PassCounters c = readCounters(counters_);
+    return double(std::uint64_t(c.fetchesHigh) << 32 | c.fetchesLow) / pixels_;
 }
 
 double ProbeProjectionPass::uncoveredFraction() const {
     if (pixels_ == 0.0) return 0.0;
-    std::uint32_t uncovered = 0;
-    glGetNamedBufferSubData(counters_.id(), 0, sizeof uncovered, &uncovered);
-    return double(uncovered) / pixels_;
+    return double(readCounters(counters_).uncovered) / pixels_;
 }
 
 }  // namespace cubeao

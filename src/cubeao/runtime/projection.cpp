@@ -1,15 +1,45 @@
 #include "cubeao/runtime/projection.h"
 
-#include <algorithm>
-#include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include <glm/geometric.hpp>
 
-#include "cubeao/bake/cube.h"
+#include "common/projection.h"
 #include "cubeao/cache/depth_cube.h"
+#include "cubeao/core/cube.h"
 
 namespace cubeao {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+kernel::ProjectionParams kernelParams(const ProjectSettings& s, int res, int depthRes) {
+    return {s.depthTolerance, s.depthSlope, s.minFacing, res, depthRes};
+}
+
+// The probes of projectAo as the shared loop (shaders/common/projection.h) reads them: candidate k is
+// probes[k], texels come from the decoded arrays.
+struct DecodedReader {
+    std::span<const DecodedProbe> probes;
+
+    std::uint32_t projectionCandidate(int k) const { return std::uint32_t(k); }
+    glm::vec3 projectionProbePosition(std::uint32_t probe) const { return probes[probe].position; }
+    float projectionDistance(std::uint32_t probe, int face, glm::vec2 sc) const {
+        const DecodedProbe& p = probes[probe];
+        const glm::ivec2 t = cube::texelOf(sc, p.depthRes);
+        return p.distance[cube::texelIndex(face, t.x, t.y, p.depthRes)];
+    }
+    glm::vec2 projectionAoConfidence(std::uint32_t probe, int face, glm::vec2 sc) const {
+        const DecodedProbe& p = probes[probe];
+        const glm::ivec2 t = cube::texelOf(sc, p.res);
+        const std::size_t i = cube::texelIndex(face, t.x, t.y, p.res);
+        return {p.ao[i], p.confidence[i]};
+    }
+};
+
+}  // namespace
 
 ProjectSettings resolveProjectSettings(ProjectSettings s) {
     if (s.depthTolerance == 0.0f) s.depthTolerance = depth::kDepthTolerance;
@@ -21,64 +51,38 @@ ProjectSettings resolveProjectSettings(ProjectSettings s) {
 double texelFootprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n, int res, float minFacing) {
     const glm::vec3 d = x - probe;
     const float distance = glm::length(d);
-    if (!(distance > 0.0f)) return std::numeric_limits<double>::infinity();
+    if (!(distance > 0.0f)) return kInfinity;
     const float facing = -glm::dot(n, d) / distance;  // cos θ between the normal and the way to the probe
-    if (!(facing > 0.0f)) return std::numeric_limits<double>::infinity();
-    const cube::FacePoint fp = cube::faceOf(d);
-    const double r2 = 1.0 + double(fp.sc.x) * fp.sc.x + double(fp.sc.y) * fp.sc.y;
-    const double texel = 2.0 / double(res);
-    const double solidAngle = texel * texel / (r2 * std::sqrt(r2));
-    return solidAngle * double(distance) * distance / std::max(facing, minFacing);
+    if (!(facing > 0.0f)) return kInfinity;
+    return double(kernel::probeTexelArea(cube::faceOf(d).sc, distance, facing, res, minFacing));
 }
 
 bool probeSees(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n, const ProjectSettings& settings) {
     const glm::vec3 d = x - probe.position;
     const float stored = probe.distance[cube::texelIndex(d, probe.depthRes)];
-    if (!(stored > 0.0f)) return false;  // the probe saw nothing there: x cannot be on a surface it saw
     const float distance = glm::length(d);
-    const depth::DepthTest test{settings.depthTolerance, settings.depthSlope, true};
-    return depth::visible(test, stored, distance, -glm::dot(n, d) / distance, probe.depthRes);
+    return kernel::probeSeesPoint(stored, distance, -glm::dot(n, d) / distance,
+                                  kernelParams(settings, probe.res, probe.depthRes));
 }
 
 double visibleFootprint(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n,
                         const ProjectSettings& settings) {
-    if (!probeSees(probe, x, n, settings)) return std::numeric_limits<double>::infinity();
+    if (!probeSees(probe, x, n, settings)) return kInfinity;
     return texelFootprint(probe.position, x, n, probe.res, settings.minFacing);
 }
 
 Projected projectAo(std::span<const DecodedProbe> candidates, const glm::vec3& x, const glm::vec3& n,
                     const ProjectSettings& settings) {
-    struct Ranked {
-        double quality = 0.0;
-        float ao = 1.0f;
-    };
-    Ranked best[3];  // descending quality
-    for (const DecodedProbe& probe : candidates) {
-        const double area = visibleFootprint(probe, x, n, settings);
-        if (!std::isfinite(area)) continue;
-        const std::size_t t = cube::texelIndex(x - probe.position, probe.res);
-        const Ranked r{double(probe.confidence[t]) / area, probe.ao[t]};
-        if (!(r.quality > 0.0)) continue;
-        if (r.quality > best[0].quality) {
-            best[2] = best[1], best[1] = best[0], best[0] = r;
-        } else if (r.quality > best[1].quality) {
-            best[2] = best[1], best[1] = r;
-        } else if (r.quality > best[2].quality) {
-            best[2] = r;
-        }
-    }
-    Projected out;
-    const double w0 = best[0].quality - best[2].quality, w1 = best[1].quality - best[2].quality;
-    if (!(best[0].quality > 0.0)) return out;  // uncovered: the caller decides the fallback
-    out.covered = true;
-    if (!(w0 + w1 > 0.0)) {  // three or more tie for first: their mean is as continuous as any choice
-        out.ao = (best[0].ao + best[1].ao + best[2].ao) / 3.0f;
-        out.used = 3;
-        return out;
-    }
-    out.ao = float((w0 * best[0].ao + w1 * best[1].ao) / (w0 + w1));
-    out.used = (w0 > 0.0) + (w1 > 0.0);
-    return out;
+    if (candidates.empty()) return {};
+    const int res = candidates.front().res, depthRes = candidates.front().depthRes;
+    for (const DecodedProbe& p : candidates)
+        if (p.res != res || p.depthRes != depthRes)
+            throw std::invalid_argument("projectAo: candidates of different resolutions (" + std::to_string(p.res) +
+                                        "/" + std::to_string(p.depthRes) + " vs " + std::to_string(res) + "/" +
+                                        std::to_string(depthRes) + "): the projection reads one cache");
+    const kernel::ProjectedAo r = kernel::projectCandidates(DecodedReader{candidates}, int(candidates.size()), x, n,
+                                                            kernelParams(settings, res, depthRes));
+    return {r.ao, r.used > 0, r.used};
 }
 
 }  // namespace cubeao

@@ -1,6 +1,7 @@
 // Projecting baked probes onto a surface point (DESIGN.md §4 "Projection", thesis 003 ch. 5): the
-// per-point math of the run-time pass, in plain C++. It is the CPU twin of the projection shader and
-// what tests and tools use to read a cache at arbitrary points.
+// per-point math of the run-time pass on the CPU, what tests and tools use to read a cache at arbitrary
+// points. The math itself is shaders/common/projection.h, compiled here as C++ and in the projection
+// shader (shaders/runtime/project.comp) as GLSL; these functions feed it decoded probes.
 //
 // Per candidate probe: a depth test (does the probe see the point?), then a quality that is one
 // physical number instead of the thesis' three heuristics: the world-space area one probe texel
@@ -58,7 +59,8 @@ struct Projected {
     int used = 0;          // probes blended: 0, 1 or 2 (3 when three tie for first)
 };
 
-// AO at x (normal n) from the candidate probes: depth test, quality, soft best-two blend.
+// AO at x (normal n) from the candidate probes: depth test, quality, soft best-two blend. All
+// candidates share res and depthRes (one cache); std::invalid_argument otherwise.
 Projected projectAo(std::span<const DecodedProbe> candidates, const glm::vec3& x, const glm::vec3& n,
                     const ProjectSettings& settings);
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "cubeao/gl/handles.h"
-#include "cubeao/metrics/image.h"
+#include "cubeao/core/image.h"
 #include "cubeao/runtime/ao_pass.h"
 #include "cubeao/runtime/blur.h"
 #include "cubeao/runtime/camera_gbuffer.h"

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <string>
 
-#include "cubeao/reference/ao_reference.h"
+#include "cubeao/core/falloff.h"
 
 namespace cubeao {
 

@@ -1,0 +1,116 @@
+// Projecting baked probes onto a surface point (DESIGN.md §4 "Projection", thesis 003 ch. 5), once for
+// the run-time pass (shaders/runtime/project.comp) and its CPU twin (src/cubeao/runtime/projection.h,
+// which explains the quality and the blend): the depth test against a probe's distance cube, the
+// world area of one probe texel on the surface, and the per-point loop over candidate probes with the
+// soft best-two blend.
+//
+// The loop reads probes through four functions its includer provides; in GLSL they are globals the
+// shader defines (declared below), in C++ they are members of a reader object passed first
+// (projectCandidates is then a template over the reader's type):
+//   uint projectionCandidate(int k)                         probe index of candidate k, kNoProbe = end
+//   vec3 projectionProbePosition(uint probe)
+//   float projectionDistance(uint probe, int face, vec2 sc)  decoded distance-cube texel, 0 = empty
+//   vec2 projectionAoConfidence(uint probe, int face, vec2 sc)  (AO, confidence) texel
+// Texels are those cubeTexelOf(sc, resolution) picks on `face` (cube.h).
+#pragma once
+
+#include "cube.h"
+#include "depth_test.h"
+#include "glsl_cpp.h"
+#include "runtime_layout.h"
+
+#ifdef __cplusplus
+#define CUBEAO_READER_FN template <class Reader> inline
+#define CUBEAO_READER(r) const Reader& r,
+#define CUBEAO_READ(r) r.
+#else
+#define CUBEAO_READER_FN
+#define CUBEAO_READER(r)
+#define CUBEAO_READ(r)
+#endif
+
+CUBEAO_KERNEL_BEGIN
+
+// The projection's resolved settings (src/cubeao/runtime/projection.h ProjectSettings) and the probes'
+// resolutions: AO texels per face side, distance-cube texels per face side.
+struct ProjectionParams {
+    float depthTolerance;
+    float depthSlope;
+    float minFacing;
+    int res;
+    int depthRes;
+};
+
+// Whether the probe sees the point: its seen side faces the probe, the probe saw a surface that way
+// (an empty texel holds no AO for the point either) and that surface is the point's (depth_test.h).
+CUBEAO_FN bool probeSeesPoint(float stored, float distance, float cosine, ProjectionParams p) {
+    if (!(cosine > 0.0f) || !(stored > 0.0f)) return false;
+    return depthWithinBias(stored, distance, cosine, p.depthTolerance, p.depthSlope, p.depthRes);
+}
+
+// World area of the probe texel at face point sc on a surface at `distance` seen at cos θ = facing > 0:
+// solid angle (2/res)² / (1 + u² + v²)^{3/2} times distance² / max(cos θ, minFacing).
+CUBEAO_FN float probeTexelArea(vec2 sc, float distance, float facing, int res, float minFacing) {
+    float r2 = 1.0f + dot(sc, sc), texel = 2.0f / float(res);
+    return texel * texel / (r2 * sqrt(r2)) * distance * distance / max(facing, minFacing);
+}
+
+// AO at a point and how many probes gave it: 0 (nobody saw the point: ao = 1, open, the caller's
+// fallback), 1, 2, or 3 when three tie for first.
+struct ProjectedAo {
+    float ao;
+    int used;
+};
+
+#ifndef __cplusplus
+uint projectionCandidate(int k);
+vec3 projectionProbePosition(uint probe);
+float projectionDistance(uint probe, int face, vec2 sc);
+vec2 projectionAoConfidence(uint probe, int face, vec2 sc);
+#endif
+
+// AO at world point x with unit normal n (turned to the camera) from up to `count` candidates: per
+// candidate the depth test, quality = confidence / probeTexelArea, then the best two blended with
+// weights q1 − q3 and q2 − q3 (q3: the third best, 0 if none), continuous when the ranking changes.
+CUBEAO_READER_FN ProjectedAo projectCandidates(CUBEAO_READER(reader) int count, vec3 x, vec3 n, ProjectionParams p) {
+    vec2 best[3];  // (quality, AO), best first; quality 0 = empty slot
+    best[0] = vec2(0.0f, 1.0f);
+    best[1] = best[0];
+    best[2] = best[0];
+    for (int k = 0; k < count; ++k) {
+        uint probe = CUBEAO_READ(reader) projectionCandidate(k);
+        if (probe == kNoProbe) break;
+        vec3 d = x - CUBEAO_READ(reader) projectionProbePosition(probe);
+        float distance = length(d);
+        float cosine = -dot(n, d) / distance;
+        vec2 sc;
+        int face = cubeFaceOf(d, sc);
+        if (!probeSeesPoint(CUBEAO_READ(reader) projectionDistance(probe, face, sc), distance, cosine, p)) continue;
+        vec2 v = CUBEAO_READ(reader) projectionAoConfidence(probe, face, sc);
+        vec2 r = vec2(v.y / probeTexelArea(sc, distance, cosine, p.res, p.minFacing), v.x);
+        if (!(r.x > 0.0f)) continue;
+        if (r.x > best[0].x) {
+            best[2] = best[1];
+            best[1] = best[0];
+            best[0] = r;
+        } else if (r.x > best[1].x) {
+            best[2] = best[1];
+            best[1] = r;
+        } else if (r.x > best[2].x) {
+            best[2] = r;
+        }
+    }
+    if (!(best[0].x > 0.0f)) return ProjectedAo(1.0f, 0);
+    float w0 = best[0].x - best[2].x, w1 = best[1].x - best[2].x;
+    // Three or more tie for first: their mean is as continuous as any choice.
+    if (!(w0 + w1 > 0.0f)) return ProjectedAo((best[0].y + best[1].y + best[2].y) / 3.0f, 3);
+    return ProjectedAo((w0 * best[0].y + w1 * best[1].y) / (w0 + w1), int(w0 > 0.0f) + int(w1 > 0.0f));
+}
+
+// The grid cell (clamped into the grid) holding world point x: the cell whose candidates the
+// projection tries (src/cubeao/runtime/probe_grid.h; cells x-fastest).
+CUBEAO_FN ivec3 candidateCellOf(vec3 x, vec3 origin, float cellSize, ivec3 dims) {
+    return clamp(ivec3(floor((x - origin) / cellSize)), ivec3(0), dims - 1);
+}
+
+CUBEAO_KERNEL_END

@@ -1,0 +1,135 @@
+// The run-time passes against shaders/common/runtime_layout.h as the GL driver compiled them: work-group
+// size, the unit every sampler and image is bound to, the binding of every storage block, and the
+// std430 offsets, strides and sizes of the structs the C++ side writes and reads (program interface
+// queries, GL 4.5 §7.3.1). A shader that hard-codes a binding, or a struct that drifts from its C++
+// mirror, fails here rather than as wrong pixels.
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "common/runtime_layout.h"
+#include "cubeao/gl/handles.h"
+#include "cubeao/gl/shader.h"
+#include "gl_fixture.h"
+
+namespace {
+
+using namespace cubeao;
+namespace k = cubeao::kernel;
+
+// The unit a sampler or image uniform is bound to; −1 when the program has no such active uniform.
+GLint unitOf(GLuint program, const char* name) {
+    const GLint location = glGetUniformLocation(program, name);
+    if (location < 0) return -1;
+    GLint unit = -1;
+    glGetUniformiv(program, location, &unit);
+    return unit;
+}
+
+// One property of a program resource; −1 when there is no such resource.
+GLint resourceProperty(GLuint program, GLenum interface, const char* name, GLenum property) {
+    const GLuint index = glGetProgramResourceIndex(program, interface, name);
+    if (index == GL_INVALID_INDEX) return -1;
+    GLint value = -1;
+    glGetProgramResourceiv(program, interface, index, 1, &property, 1, nullptr, &value);
+    return value;
+}
+
+GLint blockBinding(GLuint program, const char* block) {
+    return resourceProperty(program, GL_SHADER_STORAGE_BLOCK, block, GL_BUFFER_BINDING);
+}
+
+GLint variableOffset(GLuint program, const char* variable) {
+    return resourceProperty(program, GL_BUFFER_VARIABLE, variable, GL_OFFSET);
+}
+
+void expectPixelGroup(GLuint program, const std::string& name) {
+    GLint size[3] = {0, 0, 0};
+    glGetProgramiv(program, GL_COMPUTE_WORK_GROUP_SIZE, size);
+    EXPECT_EQ(size[0], k::kPixelGroupSize) << name;
+    EXPECT_EQ(size[1], k::kPixelGroupSize) << name;
+    EXPECT_EQ(size[2], 1) << name;
+}
+
+// The Counters block of project.comp and ssao.glsl: kernel::PassCounters at kPassCountersBuffer.
+void expectPassCounters(GLuint program, const std::string& name) {
+    EXPECT_EQ(blockBinding(program, "Counters"), k::kPassCountersBuffer) << name;
+    EXPECT_EQ(resourceProperty(program, GL_SHADER_STORAGE_BLOCK, "Counters", GL_BUFFER_DATA_SIZE),
+              GLint(sizeof(k::PassCounters)))
+        << name;
+    EXPECT_EQ(variableOffset(program, "counters.fetchesLow"), GLint(offsetof(k::PassCounters, fetchesLow)))
+        << name;
+    EXPECT_EQ(variableOffset(program, "counters.fetchesHigh"), GLint(offsetof(k::PassCounters, fetchesHigh)))
+        << name;
+    EXPECT_EQ(variableOffset(program, "counters.uncovered"), GLint(offsetof(k::PassCounters, uncovered)))
+        << name;
+}
+
+TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
+    const gl::Program program = gl::compileComputeProgram("runtime/project.comp");
+    const GLuint p = program.id();
+    expectPixelGroup(p, "project");
+    EXPECT_EQ(unitOf(p, "depthTex"), k::kGBufferDepthUnit);
+    EXPECT_EQ(unitOf(p, "normalTex"), k::kGBufferNormalUnit);
+    EXPECT_EQ(unitOf(p, "aoTex"), k::kProbeAoUnit);
+    EXPECT_EQ(unitOf(p, "distanceTex"), k::kProbeDistanceUnit);
+    EXPECT_EQ(unitOf(p, "aoOut"), k::kAoImageUnit);
+    expectPassCounters(p, "project");
+
+    EXPECT_EQ(blockBinding(p, "ProbeTable"), k::kProbeTableBuffer);
+    EXPECT_EQ(variableOffset(p, "probes[0].position"), GLint(offsetof(k::ProbeEntry, position)));
+    EXPECT_EQ(variableOffset(p, "probes[0].distanceScale"), GLint(offsetof(k::ProbeEntry, distanceScale)));
+    EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, "probes[0].position", GL_TOP_LEVEL_ARRAY_STRIDE),
+              GLint(sizeof(k::ProbeEntry)));
+
+    EXPECT_EQ(blockBinding(p, "Candidates"), k::kCandidateBuffer);
+    EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, "candidates[0]", GL_ARRAY_STRIDE),
+              GLint(sizeof(std::uint32_t)));
+}
+
+TEST_F(GlTest, ScreenSpaceShadersMatchTheSharedLayout) {
+    for (const char* method : {"alchemy", "hbao", "gtao"}) {
+        const std::string name = std::string("ssao/") + method + ".comp";
+        const gl::Program program = gl::compileComputeProgram(name);
+        const GLuint p = program.id();
+        expectPixelGroup(p, name);
+        EXPECT_EQ(unitOf(p, "gDepth"), k::kGBufferDepthUnit) << name;
+        EXPECT_EQ(unitOf(p, "gNormal"), k::kGBufferNormalUnit) << name;
+        EXPECT_EQ(unitOf(p, "aoOut"), k::kAoImageUnit) << name;
+        expectPassCounters(p, name);
+    }
+}
+
+TEST_F(GlTest, BlurAndCompositeShadersMatchTheSharedLayout) {
+    for (const char* name : {"runtime/blur.comp", "runtime/composite.comp"}) {
+        const gl::Program program = gl::compileComputeProgram(name);
+        const GLuint p = program.id();
+        expectPixelGroup(p, name);
+        EXPECT_EQ(unitOf(p, "gDepth"), k::kGBufferDepthUnit) << name;
+        EXPECT_EQ(unitOf(p, "gNormal"), k::kGBufferNormalUnit) << name;
+        EXPECT_EQ(unitOf(p, "aoIn"), k::kAoInputUnit) << name;
+    }
+    const gl::Program blur = gl::compileComputeProgram("runtime/blur.comp");
+    EXPECT_EQ(unitOf(blur.id(), "aoOut"), k::kAoImageUnit);
+    const gl::Program composite = gl::compileComputeProgram("runtime/composite.comp");
+    EXPECT_EQ(unitOf(composite.id(), "shaded"), k::kShadedImageUnit);
+}
+
+// Binding numbers are distinct per kind, so one number never means two things across the passes.
+TEST(RuntimeLayout, BindingsAreDistinctPerKind) {
+    const std::vector<int> units = {k::kGBufferDepthUnit, k::kGBufferNormalUnit, k::kAoInputUnit, k::kProbeAoUnit,
+                                    k::kProbeDistanceUnit};
+    const std::vector<int> buffers = {k::kTriangleNormalsBuffer, k::kPassCountersBuffer, k::kProbeTableBuffer,
+                                      k::kCandidateBuffer};
+    for (const auto* list : {&units, &buffers})
+        for (std::size_t i = 0; i < list->size(); ++i)
+            for (std::size_t j = i + 1; j < list->size(); ++j) EXPECT_NE((*list)[i], (*list)[j]) << i << " vs " << j;
+    EXPECT_NE(k::kAoImageUnit, k::kShadedImageUnit);
+    EXPECT_EQ(k::pixelGroups(1), 1u);
+    EXPECT_EQ(k::pixelGroups(k::kPixelGroupSize), 1u);
+    EXPECT_EQ(k::pixelGroups(k::kPixelGroupSize + 1), 2u);
+}
+
+}  // namespace
