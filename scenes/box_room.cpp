@@ -1,5 +1,5 @@
-#include "scenes/builtin_scenes.h"
-#include "scenes/mesh_builder.h"
+#include "cubeao/scenes/builtin_scenes.h"
+#include "cubeao/scenes/mesh_builder.h"
 
 namespace cubeao::scenes {
 

@@ -10,8 +10,8 @@
 #include <glm/common.hpp>
 #include <glm/gtc/constants.hpp>
 
-#include "scenes/builtin_scenes.h"
-#include "scenes/mesh_builder.h"
+#include "cubeao/scenes/builtin_scenes.h"
+#include "cubeao/scenes/mesh_builder.h"
 
 namespace cubeao::scenes {
 namespace {

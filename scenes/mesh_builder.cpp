@@ -1,4 +1,4 @@
-#include "scenes/mesh_builder.h"
+#include "cubeao/scenes/mesh_builder.h"
 
 #include <cmath>
 

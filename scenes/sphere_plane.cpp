@@ -1,7 +1,7 @@
 #include <cmath>
 
-#include "scenes/builtin_scenes.h"
-#include "scenes/mesh_builder.h"
+#include "cubeao/scenes/builtin_scenes.h"
+#include "cubeao/scenes/mesh_builder.h"
 
 namespace cubeao::scenes {
 

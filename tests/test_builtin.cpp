@@ -5,8 +5,10 @@
 
 #include "cubeao/core/error.h"
 #include "cubeao/reference/embree_scene.h"
-#include "cubeao/reference/sampling.h"
+#include "cubeao/core/sampling.h"
 #include "cubeao/scene/builtin.h"
+#include "cubeao/scene/repair.h"
+#include "cubeao/scenes/builtin_scenes.h"
 
 namespace cubeao {
 namespace {
@@ -70,6 +72,49 @@ TEST(Builtin, ResolveCameraPath) {
               builtinCameraPath("builtin:cloister").frames.size());
     EXPECT_EQ(resolveCameraPath("builtin:box-room", "some.obj").scene, "builtin:box-room");
     EXPECT_THROW(resolveCameraPath("", "some.obj"), UsageError);
+}
+
+// The table in scene/ is filled by cubeao_scenes (tests/test_main.cpp calls registerBuiltinScenes()):
+// each name must reach its own scene and path, and a second registration must change nothing.
+TEST(Builtin, RegistrationMapsEachNameToItsOwnScene) {
+    const struct {
+        const char* name;
+        Scene (*make)();
+        CameraPath (*path)();
+    } expected[] = {{"sphere-plane", scenes::makeSpherePlane, scenes::spherePlanePath},
+                    {"box-room", scenes::makeBoxRoom, scenes::boxRoomPath},
+                    {"cloister", scenes::makeCloister, scenes::cloisterPath}};
+    for (const auto& e : expected) {
+        SCOPED_TRACE(e.name);
+        const std::string spec = std::string("builtin:") + e.name;
+        Scene direct = e.make();
+        prepareScene(direct, true);  // what makeBuiltinScene does to the raw geometry
+        const Scene registered = makeBuiltinScene(spec);
+        EXPECT_EQ(registered.triangleCount(), direct.triangleCount());
+        EXPECT_EQ(registered.hash, direct.hash);
+        const CameraPath a = builtinCameraPath(spec), b = e.path();
+        ASSERT_EQ(a.frames.size(), b.frames.size());
+        EXPECT_EQ(a.frames.front().eye, b.frames.front().eye);
+        EXPECT_EQ(a.frames.back().target, b.frames.back().target);
+    }
+}
+
+TEST(Builtin, RegistrationIsIdempotentAndRejectsDuplicates) {
+    const std::vector<std::string> before = builtinSceneNames();
+    const std::uint64_t hash = makeBuiltinScene("builtin:box-room").hash;
+    scenes::registerBuiltinScenes();  // a second call: no-op, no "registered twice"
+    EXPECT_EQ(builtinSceneNames(), before);
+    try {
+        registerBuiltinScene("box-room", {scenes::makeSpherePlane, scenes::spherePlanePath});
+        ADD_FAILURE() << "registering box-room twice did not throw";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("builtin:box-room"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(makeBuiltinScene("builtin:box-room").hash, hash);  // the first registration stands
+    EXPECT_THROW(registerBuiltinScene("", {scenes::makeBoxRoom, scenes::boxRoomPath}), Error);
+    EXPECT_THROW(registerBuiltinScene("a:b", {scenes::makeBoxRoom, scenes::boxRoomPath}), Error);
+    EXPECT_THROW(registerBuiltinScene("no-path", {scenes::makeBoxRoom, nullptr}), Error);
+    EXPECT_EQ(builtinSceneNames(), before);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// Camera paths, the pinhole camera and --frames ranges (src/cubeao/scene/camera_path.h): literal JSON
+// Camera paths, the pinhole camera and --frames ranges (scene/camera_path.h, core/camera.h): literal JSON
 // with every field checked, errors that name the source and the field, and the pinhole's ray
 // directions against the closed-form angles of the README's view basis.
 #include <gtest/gtest.h>

@@ -5,9 +5,9 @@
 
 #include "cubeao/core/error.h"
 #include "cubeao/reference/ao_reference.h"
-#include "cubeao/reference/sampling.h"
+#include "cubeao/core/sampling.h"
 #include "cubeao/scene/builtin.h"
-#include "scenes/builtin_scenes.h"
+#include "cubeao/scenes/builtin_scenes.h"
 
 namespace cubeao {
 namespace {

@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "cubeao/core/error.h"
+#include "cubeao/scenes/builtin_scenes.h"
 
 namespace cubeao::cli {
 void printJson(const nlohmann::json& j) {
@@ -15,6 +16,7 @@ void printJson(const nlohmann::json& j) {
 }  // namespace cubeao::cli
 
 int main(int argc, char** argv) {
+    cubeao::scenes::registerBuiltinScenes();  // builtin:NAME for every subcommand (scene/builtin.h)
     spdlog::set_default_logger(spdlog::stderr_color_mt("cubeao"));  // stdout is for results and JSON
     spdlog::set_pattern("%^%l%$: %v");
     CLI::App app{"cubeao: ambient occlusion cached in cube-map probes"};

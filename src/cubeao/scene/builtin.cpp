@@ -1,60 +1,75 @@
 #include "cubeao/scene/builtin.h"
 
-#include <functional>
 #include <map>
+#include <mutex>
 
 #include "cubeao/core/error.h"
 #include "cubeao/scene/repair.h"
-#include "scenes/builtin_scenes.h"
 
 namespace cubeao {
 namespace {
 
 constexpr const char* kPrefix = "builtin:";
 
-struct Entry {
-    std::function<Scene()> scene;
-    std::function<CameraPath()> path;
+// A function-local static, so registration from any translation unit, at any time, finds it built.
+struct Registry {
+    std::mutex mutex;
+    std::map<std::string, BuiltinScene> scenes;  // sorted: builtinSceneNames() lists them in order
 };
-
-const std::map<std::string, Entry>& registry() {
-    static const std::map<std::string, Entry> r = {
-        {"sphere-plane", {scenes::makeSpherePlane, scenes::spherePlanePath}},
-        {"box-room", {scenes::makeBoxRoom, scenes::boxRoomPath}},
-        {"cloister", {scenes::makeCloister, scenes::cloisterPath}},
-    };
+Registry& registry() {
+    static Registry r;
     return r;
 }
 
-const Entry& lookup(const std::string& spec) {
+std::string nameList() {
+    std::string names;
+    for (const auto& n : builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;
+    return names;
+}
+
+BuiltinScene lookup(const std::string& spec) {
     const std::string name = isBuiltinSpec(spec) ? spec.substr(std::string(kPrefix).size()) : spec;
-    const auto it = registry().find(name);
-    if (it == registry().end()) {
-        std::string names;
-        for (const auto& n : builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;
-        throw Error(spec + ": no such built-in scene (have: " + names + ")");
+    {
+        Registry& r = registry();
+        std::lock_guard lock(r.mutex);
+        const auto it = r.scenes.find(name);
+        if (it != r.scenes.end()) return it->second;
+        if (r.scenes.empty())
+            throw Error(spec + ": no built-in scenes are registered (the program must call "
+                               "cubeao::scenes::registerBuiltinScenes() from cubeao_scenes first)");
     }
-    return it->second;
+    throw Error(spec + ": no such built-in scene (have: " + nameList() + ")");
 }
 
 }  // namespace
 
+void registerBuiltinScene(const std::string& name, BuiltinScene scene) {
+    if (name.empty() || name.find(':') != std::string::npos)
+        throw Error("built-in scene name '" + name + "' must be non-empty and free of ':'");
+    if (!scene.makeScene || !scene.cameraPath) throw Error(kPrefix + name + ": registered without a scene or a camera path");
+    Registry& r = registry();
+    std::lock_guard lock(r.mutex);
+    if (!r.scenes.emplace(name, std::move(scene)).second) throw Error(kPrefix + name + ": registered twice");
+}
+
 bool isBuiltinSpec(const std::string& spec) { return spec.rfind(kPrefix, 0) == 0; }
 
 std::vector<std::string> builtinSceneNames() {
+    Registry& r = registry();
+    std::lock_guard lock(r.mutex);
     std::vector<std::string> names;
-    for (const auto& [name, entry] : registry()) names.push_back(name);
+    for (const auto& [name, entry] : r.scenes) names.push_back(name);
     return names;
 }
 
 Scene makeBuiltinScene(const std::string& spec) {
-    Scene scene = lookup(spec).scene();
+    Scene scene = lookup(spec).makeScene();
     scene.source = isBuiltinSpec(spec) ? spec : kPrefix + spec;
     prepareScene(scene, true);
     return scene;
 }
 
-CameraPath builtinCameraPath(const std::string& spec) { return lookup(spec).path(); }
+CameraPath builtinCameraPath(const std::string& spec) { return lookup(spec).cameraPath(); }
 
 CameraPath resolveCameraPath(const std::string& cameraArg, const std::string& sceneSpec) {
     if (isBuiltinSpec(cameraArg)) return builtinCameraPath(cameraArg);

@@ -1,6 +1,11 @@
-// Procedural scenes addressable as "builtin:NAME" (their geometry lives in scenes/).
+// Procedural scenes addressable as "builtin:NAME". scene/ keeps only the table; the geometry lives in
+// scenes/ (library cubeao_scenes, one layer above this one), which fills the table through
+// registerBuiltinScene when a program calls cubeao::scenes::registerBuiltinScenes() at start (the
+// CLI's main, the tests' main). An explicit call, not a static registrar: a registrar object in a
+// static library is dropped by the linker when nothing references its translation unit.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -9,8 +14,15 @@
 
 namespace cubeao {
 
+struct BuiltinScene {
+    std::function<Scene()> makeScene;          // the raw geometry; makeBuiltinScene prepares it
+    std::function<CameraPath()> cameraPath;    // the scene's own short walk
+};
+// Adds "builtin:NAME"; Error when NAME is empty, has a ':' or is already registered. Thread-safe.
+void registerBuiltinScene(const std::string& name, BuiltinScene scene);
+
 bool isBuiltinSpec(const std::string& spec);            // starts with "builtin:"
-std::vector<std::string> builtinSceneNames();           // "sphere-plane", "box-room", "cloister"
+std::vector<std::string> builtinSceneNames();           // sorted: "box-room", "cloister", "sphere-plane"
 Scene makeBuiltinScene(const std::string& spec);        // "builtin:NAME"; Error listing the names if unknown
 CameraPath builtinCameraPath(const std::string& spec);  // the scene's own short walk
 

@@ -6,6 +6,11 @@
 
 namespace cubeao::scenes {
 
+// Registers builtin:sphere-plane, builtin:box-room and builtin:cloister with scene/builtin.h, so
+// loadScene, makeBuiltinScene and resolveCameraPath find them. Call once at program start (the CLI's
+// main and the tests' main do); later calls do nothing. Thread-safe.
+void registerBuiltinScenes();
+
 // Sphere of radius kSphereRadius centred kSphereHeight above a large plane y = 0 (centre over the
 // origin): the point under the centre has unbounded AO 1 − (r/h)², the analytic answer of DESIGN.md §6.
 inline constexpr float kSphereRadius = 1.0f;

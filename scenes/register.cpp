@@ -1,0 +1,17 @@
+#include <mutex>
+
+#include "cubeao/scene/builtin.h"
+#include "cubeao/scenes/builtin_scenes.h"
+
+namespace cubeao::scenes {
+
+void registerBuiltinScenes() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        registerBuiltinScene("sphere-plane", {makeSpherePlane, spherePlanePath});
+        registerBuiltinScene("box-room", {makeBoxRoom, boxRoomPath});
+        registerBuiltinScene("cloister", {makeCloister, cloisterPath});
+    });
+}
+
+}  // namespace cubeao::scenes
