@@ -8,10 +8,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <vector>
 
 #include "cubeao/bake/bake.h"
 #include "cubeao/bake/bake_cache.h"
+#include "cubeao/bake/bake_driver.h"
 #include "cubeao/bake/gpu_bake.h"
 #include "cubeao/cache/bc4.h"
 #include "cubeao/cache/depth_cube.h"
@@ -138,6 +140,7 @@ TEST_F(BakeEncodeGl, GpuEncodersMatchTheCpuTwinOnTheSameBake) {
                 s.depthRes = depthRes == 0 ? s.depthRes : depthRes;
                 GpuBaker baker(boxRoom(), s);
                 baker.setReadback(BakeReadback::All);
+                baker.setTimings(true);
                 const BakedProbe p = baker.bake(kBoxProbe, 4);
                 ASSERT_EQ(p.gbuffer.texels.size(), p.gbuffer.texelCount());
                 expectSameEncoding(p.encoded, encodeProbeCpu(p.gbuffer, p.ao, p.confidence, s), f);
@@ -149,6 +152,8 @@ TEST_F(BakeEncodeGl, ProductionReadBackLeavesTheUncompressedProbeOnTheGpu) {
     const BakeSettings s = bakeSettings(Estimator::Gtao, 16, 1.0f, 16);
     GpuBaker baker(boxRoom(), s);
     const BakedProbe encoded = baker.bake(kBoxProbe, 1);  // default: BakeReadback::Encoded
+    EXPECT_EQ(encoded.timings.gbufferMs + encoded.timings.aoMs + encoded.timings.encodeMs, 0.0)
+        << "a production bake times no stage (timing one stalls the pipeline around it)";
     EXPECT_TRUE(encoded.gbuffer.texels.empty());
     EXPECT_TRUE(encoded.ao.empty() && encoded.confidence.empty());
     EXPECT_EQ(encoded.encoded.aoConfidence.size(), bc::bc5Size(16));
@@ -182,6 +187,50 @@ TEST_F(BakeEncodeGl, GpuAndCpuBakesStoreTheSameProbeWithinTolerance) {
     EXPECT_NEAR(gpu.maxDistance, cpu.maxDistance, 1e-4f * cpu.maxDistance);
 }
 
+// ---- the bake driver -----------------------------------------------------------------------------
+
+// The loop every caller shares: a shard's probes less those the sink holds, in index order, each
+// stored as its baker encoded it (the same bytes as bakeProbeCpu's), with --verify per probe.
+TEST(BakeDriver, BakesTheShardLessTheSinkAndVerifies) {
+    std::vector<ProbeSpec> probes;
+    for (int i = 0; i < 7; ++i) probes.push_back({glm::vec3(1.0f + 0.8f * float(i), 1.4f, 2.5f)});
+    BakeSettings s = bakeSettings(Estimator::Traced, 8, 1.0f, 8);
+    s.device = BakeDevice::Cpu;
+    MemoryProbeSink sink;
+    sink.add({3, probes[3].position, 0.0f, {}, {}});  // already there: skipped
+    ProbeBaker baker(boxRoom(), s);
+    BakeJob job;
+    job.probes = probes;
+    job.shard = parseBakeShard("1/2");
+    job.verify = VerifySpec{};
+    job.progressLabel.clear();
+    std::vector<std::uint32_t> seen;
+    job.onProbe = [&](std::uint32_t index, const BakedProbe& p) {
+        seen.push_back(index);
+        EXPECT_EQ(p.ao.size(), p.gbuffer.texelCount());
+    };
+    const BakeResult r = bakeProbes(baker, job, sink);
+    EXPECT_EQ(r.inShard, 3u);  // 1, 3, 5
+    EXPECT_EQ(r.skipped, 1u);
+    EXPECT_EQ(seen, (std::vector<std::uint32_t>{1, 5}));
+    ASSERT_EQ(sink.records.size(), 3u);
+    for (std::size_t k = 1; k < 3; ++k) {
+        const ProbeRecord& rec = sink.records[k];
+        const EncodedProbe direct = bakeProbeCpu(EmbreeScene(boxRoom()), rec.position, rec.index, s).encoded;
+        EXPECT_EQ(rec.aoConfidence, direct.aoConfidence) << rec.index;
+        EXPECT_EQ(rec.depth, direct.depth) << rec.index;
+        EXPECT_EQ(rec.maxDistance, direct.maxDistance) << rec.index;
+        EXPECT_EQ(rec.position, probes[rec.index].position);
+    }
+    ASSERT_EQ(r.probes.size(), 2u);
+    EXPECT_EQ(r.verifySpp, 32);
+    EXPECT_EQ(r.verify.texels, 2u * 6u * 8u * 8u);
+    EXPECT_GT(r.verify.mae, 0.0);
+    EXPECT_NEAR(r.verify.mae, 0.5 * (r.probes[0].verify->mae + r.probes[1].verify->mae), 1e-12);
+    EXPECT_EQ(r.twin.texels, 0u) << "no twin check on the CPU path: it would compare the bake with itself";
+    EXPECT_TRUE(contains(errorMessage([] { parseBakeShard("2/2"); }), "expected I/N with 0 <= I < N"));
+}
+
 // ---- BakeCacheWriter -----------------------------------------------------------------------------
 
 CacheParams smallParams() {
@@ -204,35 +253,91 @@ ProbeRecord record(const CacheParams& p, const std::vector<ProbeSpec>& probes, s
             std::vector<std::uint8_t>(depthSectionSize(p), 1)};
 }
 
-TEST(BakeCacheWriter, AppendsInBatchesAndResumes) {
+std::vector<std::uint8_t> fileBytes(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+TEST(BakeCacheWriter, WritesBatchesAsPartsAndResumes) {
     TempDir dir("bakecache");
     const fs::path path = dir / "a.cubeao";
     const CacheParams p = smallParams();
     const auto probes = probeSet(5);
     {
         BakeCacheWriter w(path, p, probes, {2, 1e9});
-        EXPECT_FALSE(fs::exists(path)) << "nothing is written before the first batch";
         w.add(record(p, probes, 0));
-        EXPECT_FALSE(fs::exists(path));
+        EXPECT_FALSE(fs::exists(BakeCacheWriter::partPath(path, 0))) << "nothing is written before the first batch";
         w.add(record(p, probes, 1));
-        EXPECT_EQ(CacheReader(path).probeCount(), 2u) << "a full batch is appended";
+        EXPECT_FALSE(fs::exists(path)) << "the output is written once, by finish()";
+        const CacheReader part(BakeCacheWriter::partPath(path, 0));
+        EXPECT_EQ(part.probeCount(), 2u) << "a full batch is a part file";
         w.add(record(p, probes, 2));
         EXPECT_TRUE(contains(errorMessage([&] { w.add(record(p, probes, 2)); }), "probe index 2 baked twice"));
         // No finish(): stands for an exception while baking probe 3; the destructor keeps probe 2.
     }
-    EXPECT_EQ(CacheReader(path).probeCount(), 3u);
+    EXPECT_EQ(CacheReader(BakeCacheWriter::partPath(path, 1)).probeCount(), 1u);
 
-    BakeCacheWriter w(path, p, probes);
-    EXPECT_EQ(w.probesAtStart(), 3u);
+    BakeCacheWriter w(path, p, probes, {2, 1e9});
+    EXPECT_EQ(w.probesAtStart(), 3u) << "the parts of the interrupted run are picked up";
     EXPECT_TRUE(w.has(0) && w.has(1) && w.has(2));
     EXPECT_FALSE(w.has(3));
     w.add(record(p, probes, 4));
     w.add(record(p, probes, 3));
+    EXPECT_TRUE(fs::exists(BakeCacheWriter::partPath(path, 2))) << "new parts are numbered after the old ones";
     w.finish();
+    EXPECT_EQ(w.appends(), 1u);
+    EXPECT_FALSE(fs::exists(BakeCacheWriter::partPath(path, 0)) || fs::exists(BakeCacheWriter::partPath(path, 1)) ||
+                 fs::exists(BakeCacheWriter::partPath(path, 2)))
+        << "finish() removes the parts it merged";
     const CacheReader r(path);
     ASSERT_EQ(r.probeCount(), 5u);
-    EXPECT_EQ(r.index(3), 4u);  // appended in bake order
-    EXPECT_EQ(w.appends(), 1u);
+    r.verifyAll();
+    // Sorted by index: the very bytes one uninterrupted, unsharded bake writes.
+    std::vector<ProbeRecord> all;
+    for (std::uint32_t i = 0; i < 5; ++i) all.push_back(record(p, probes, i));
+    writeCache(dir / "one.cubeao", p, all);
+    EXPECT_EQ(fileBytes(path), fileBytes(dir / "one.cubeao"));
+}
+
+// The point of the parts: a batch writes the batch, not every probe baked before it.
+TEST(BakeCacheWriter, ABatchCostsInProportionToTheBatch) {
+    TempDir dir("bakecache");
+    const fs::path path = dir / "a.cubeao";
+    const CacheParams p = smallParams();
+    const auto probes = probeSet(12);
+    BakeCacheWriter w(path, p, probes, {3, 1e9});
+    for (std::uint32_t i = 0; i < 12; ++i) w.add(record(p, probes, i));
+    ASSERT_EQ(w.parts().size(), 4u);
+    for (const fs::path& part : w.parts()) EXPECT_EQ(fs::file_size(part), cacheFileSize(p, 3)) << part;
+    w.finish();
+    EXPECT_EQ(fs::file_size(path), cacheFileSize(p, 12));
+}
+
+// A finish() interrupted after its rename leaves parts whose probes the output holds: the next run
+// removes them instead of refusing a probe "baked twice"; a part that overlaps only partly is damage.
+TEST(BakeCacheWriter, ResumeAfterAnInterruptedFinish) {
+    TempDir dir("bakecache");
+    const fs::path path = dir / "a.cubeao";
+    const CacheParams p = smallParams();
+    const auto probes = probeSet(4);
+    const std::vector<ProbeRecord> first{record(p, probes, 0), record(p, probes, 1)};
+    writeCache(path, p, first);
+    writeCache(BakeCacheWriter::partPath(path, 0), p, first);                                    // stale
+    writeCache(BakeCacheWriter::partPath(path, 1), p, std::vector<ProbeRecord>{record(p, probes, 2)});  // not merged
+    {
+        BakeCacheWriter w(path, p, probes);
+        EXPECT_FALSE(fs::exists(BakeCacheWriter::partPath(path, 0)));
+        EXPECT_EQ(w.probesAtStart(), 3u);
+        w.add(record(p, probes, 3));
+        w.finish();
+    }
+    EXPECT_EQ(CacheReader(path).probeCount(), 4u);
+
+    writeCache(BakeCacheWriter::partPath(path, 0), p, std::vector<ProbeRecord>{record(p, probes, 3)});
+    writeCache(BakeCacheWriter::partPath(path, 1), p, std::vector<ProbeRecord>{record(p, probes, 3)});
+    fs::remove(path);
+    const std::string msg = errorMessage([&] { BakeCacheWriter w(path, p, probes); });
+    EXPECT_TRUE(contains(msg, "part-000001: holds probe index 3, which the cache or an earlier part holds too")) << msg;
 }
 
 TEST(BakeCacheWriter, RefusesWhatIsNotTheSameBake) {

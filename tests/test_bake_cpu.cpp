@@ -15,8 +15,8 @@
 #include "cubeao/metrics/image_io.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/repair.h"
-#include "scenes/builtin_scenes.h"
-#include "scenes/mesh_builder.h"
+#include "cubeao/scenes/builtin_scenes.h"
+#include "cubeao/scenes/mesh_builder.h"
 #include "bake_test_settings.h"
 #include "test_util.h"
 
@@ -375,10 +375,10 @@ TEST(HorizonOpenPlane, FullyOpenWithConfidenceOne) {
         SCOPED_TRACE(estimatorName(e));
         const BakeSettings s = bakeSettings(e, 32, 1.0f, 64);
         const BakedProbe b = bakeProbeCpu(openFloor(), glm::vec3(0.2f, 1.5f, -0.4f), 2, s);
-        // hsplit: exactly 1 (every sin² h is 0). GTAO: its 8 slices are a quadrature of the open
-        // hemisphere's slice integral, exact only in the limit; its error is zero at normal view and
-        // at most 1.27 % when the view is 90° from the normal (numerical integration over the jitter).
-        const float tolerance = e == Estimator::HorizonSplit ? 1e-6f : 0.013f;
+        // hsplit: exactly 1 (every sin² h is 0). GTAO: 1 to float rounding, as it divides by the
+        // open hemisphere's slice integrals (shaders/common/gtao.h); dividing by the slice count (the
+        // bake before issue 11) read up to 1.27 % low at the grazing texels here.
+        const float tolerance = e == Estimator::HorizonSplit ? 1e-6f : 1e-4f;
         for (std::size_t index = 0; index < b.ao.size(); ++index) {
             EXPECT_NEAR(b.ao[index], 1.0f, tolerance) << "texel " << index;
             EXPECT_EQ(b.confidence[index], 1.0f) << "texel " << index;
@@ -411,7 +411,7 @@ TEST(HorizonConfidence, MarchBehindAColumnIsHidden) {
         // threshold, and no march point is hidden without the column (above).
         EXPECT_LT(b.confidence[index], 0.95f);
         EXPECT_GT(b.confidence[index], 0.5f);
-        EXPECT_NEAR(b.ao[index], 1.0f, 0.013f);  // nothing within R of p (gtao: quadrature, as above)
+        EXPECT_NEAR(b.ao[index], 1.0f, 1e-4f);  // nothing within R of p (gtao: ratio estimator, as above)
         if (e == Estimator::Hybrid) {
             EXPECT_GT(b.tracedTexels, 0u);
             const std::uint32_t key = texelKey(id.face, id.i, id.j, s.res, 4, s.ao.seed);
@@ -483,14 +483,37 @@ TEST(HorizonSeams, FaceBordersLookLikeAnyOtherTexelStep) {
     EXPECT_LE(maxBorder, 1.5 * maxInterior + 0.05);
 }
 
-TEST(CpuBakeVerify, TracedBakeIsItsOwnReferenceExactly) {
+// `bake --verify` measures the bake's error even on the traced path: the reference is independent
+// (another seed, 4× the rays), so the MAE of a correct traced bake is the two estimates' noise, and
+// the MAE of a wrong bake is its error.
+TEST(CpuBakeVerify, TracedBakeErrorIsTheNoiseOfTwoIndependentEstimates) {
     const BakeSettings s = bakeSettings(Estimator::Traced, 16, 0.5f, 16);
+    const BakeSettings reference = verifyReferenceSettings(s);
+    EXPECT_EQ(reference.ao.spp, 64);
+    EXPECT_NE(reference.ao.seed, s.ao.seed);
+    EXPECT_EQ(verifyReferenceSettings(s, 40).ao.spp, 40);
     const BakedProbe b = bakeProbeCpu(boxRoom(), glm::vec3(3.0f, 1.2f, 2.5f), 6, s);
-    const VerifyResult v = verifyProbe(boxRoom(), b, 6, s);
+    const VerifyResult v = verifyProbe(boxRoom(), b, 6, reference);
     EXPECT_EQ(v.texels, 6u * 16u * 16u);  // a closed room: every texel sees a wall
-    EXPECT_EQ(v.mae, 0.0);                // same rays, same code
-    // A different probe index means other rays: no longer identical.
-    EXPECT_GT(verifyProbe(boxRoom(), b, 7, s).mae, 0.0);
+    // Per texel |bake − reference| of two independent estimates with standard errors 2σ (16 rays)
+    // and σ (64 rays): E = sqrt(2/π)·sqrt(5)·σ = 1.78σ for Gaussian errors; `noise` is σ's upper
+    // bound (independent samples; the stratified set converges faster), so the MAE lies below
+    // 1.78·noise, and well above 0: the bake is not compared with itself.
+    std::printf("box-room traced 16 spp vs 64 spp reference: verify MAE %.4f, reference noise %.4f\n", v.mae, v.noise);
+    EXPECT_GT(v.noise, 0.0);
+    EXPECT_GT(v.mae, 0.1 * v.noise);
+    EXPECT_LT(v.mae, 1.78 * v.noise);
+
+    // A wrong bake: AO forced to 1 (no occlusion anywhere). Its MAE is the mean occlusion 1 − AO of
+    // the reference, far above the correct bake's.
+    BakedProbe wrong = b;
+    std::fill(wrong.ao.begin(), wrong.ao.end(), 1.0f);
+    const VerifyResult w = verifyProbe(boxRoom(), wrong, 6, reference);
+    double occlusion = 0.0;
+    for (const float ao : b.ao) occlusion += (1.0 - double(ao)) / double(b.ao.size());
+    std::printf("AO forced to 1: verify MAE %.4f (the bake's mean occlusion %.4f)\n", w.mae, occlusion);
+    EXPECT_NEAR(w.mae, occlusion, 2.0 * v.noise);
+    EXPECT_GT(w.mae, 5.0 * v.mae);
 }
 
 TEST(CpuBakeVerify, HorizonSplitOnBoxRoomMeetsTheIssueTarget) {

@@ -16,6 +16,7 @@
 #include <glm/geometric.hpp>
 
 #include "cubeao/bake/bake.h"
+#include "cubeao/bake/bake_driver.h"
 #include "cubeao/cache/bc4.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/cache/depth_cube.h"
@@ -122,16 +123,19 @@ TEST_F(GlTest, ProbeProjectionMatchesTheCpuTwin) {
 constexpr glm::vec3 kFarProbe{1.5f, 2.0f, 4.5f}, kNearProbe{6.6f, 1.0f, 1.6f}, kFixedPoint{7.0f, 0.0f, 1.25f};
 constexpr glm::vec3 kFloorNormal{0.0f, 1.0f, 0.0f};
 
-// Bakes `probes` (probe i gets index i) on the CPU and writes them as the cache `path`.
+// Bakes `probes` (probe i gets index i) on the CPU into the cache `path`, as `cubeao bake` does.
 void bakeCache(const Scene& scene, std::span<const glm::vec3> probes, const BakeSettings& s, const std::string& path) {
-    const EmbreeScene rt(scene);
-    std::vector<ProbeRecord> records;
-    for (std::uint32_t i = 0; i < probes.size(); ++i) {
-        BakedProbe b = bakeProbeCpu(rt, probes[i], i, s);
-        records.push_back(
-            {i, probes[i], b.encoded.maxDistance, std::move(b.encoded.aoConfidence), std::move(b.encoded.depth)});
-    }
-    writeCache(path, cacheParamsFor(s, scene.hash), records);
+    std::vector<ProbeSpec> specs;
+    for (const glm::vec3& p : probes) specs.push_back({p});
+    BakeCacheWriter cache(path, cacheParamsFor(s, scene.hash), specs);
+    BakeSettings cpu = s;
+    cpu.device = BakeDevice::Cpu;
+    ProbeBaker baker(scene, cpu);
+    BakeJob job;
+    job.probes = specs;
+    job.progressLabel.clear();
+    bakeProbes(baker, job, cache);
+    cache.finish();
 }
 
 struct PointSample {

@@ -1,7 +1,8 @@
 // cubeao bake SCENE --probes probes.json --out CACHE.cubeao: AO of every probe's cube map (DESIGN.md
 // §4 "Bake"), compressed on the device that baked it (BC5 AO + confidence, a distance cube) and
-// appended to the cache in batches (bake/bake_cache.h): an interrupted bake keeps what it appended,
-// and running it again with the same parameters bakes only the probes still missing.
+// written to the cache in batches (bake/bake_cache.h): an interrupted bake keeps what it wrote, and
+// running it again with the same parameters bakes only the probes still missing. The loop itself is
+// the library's (bake/bake_driver.h); this file parses flags and prints the report.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -11,16 +12,15 @@
 
 #include <spdlog/spdlog.h>
 
-#include "bake_stats.h"
 #include "cli_util.h"
 #include "commands.h"
 #include "cubeao/bake/bake.h"
 #include "cubeao/bake/bake_cache.h"
+#include "cubeao/bake/bake_driver.h"
 #include "cubeao/bake/bake_images.h"
 #include "cubeao/bake/gpu_bake.h"
 #include "cubeao/bake/probe_set.h"
 #include "cubeao/core/error.h"
-#include "cubeao/core/progress.h"
 #include "cubeao/gl/context.h"
 #include "cubeao/scene/import.h"
 
@@ -35,29 +35,8 @@ struct BakeArgs {
     int res = 0, spp = 0, directions = 0, steps = 0, verifySpp = 0, depthRes = 0;
     float radius = 0.0f, hybridThreshold = 0.0f;
     std::uint32_t seed = 0;
-    bool verify = false, json = false;
+    bool verify = false, timings = false, json = false;
 };
-
-struct Shard {
-    std::size_t index = 0, count = 1;
-};
-
-// "I/N": this run bakes the probes whose index ≡ I (mod N).
-Shard parseShard(const std::string& text) {
-    if (text.empty()) return {};
-    const auto slash = text.find('/');
-    try {
-        if (slash != std::string::npos) {
-            std::size_t used = 0;
-            const long i = std::stol(text.substr(0, slash), &used);
-            const bool wholeI = used == slash;
-            const long n = std::stol(text.substr(slash + 1), &used);
-            if (wholeI && used == text.size() - slash - 1 && n >= 1 && i >= 0 && i < n) return {std::size_t(i), std::size_t(n)};
-        }
-    } catch (const std::exception&) {
-    }
-    throw UsageError("--shard \"" + text + "\": expected I/N with 0 <= I < N");
-}
 
 BakeSettings settingsFrom(const BakeArgs& a, const Scene& scene) {
     BakeSettings s;
@@ -93,118 +72,82 @@ nlohmann::json settingsJson(const BakeSettings& s) {
             {"depth_format", depthFormatName(s.depthFormat)}};
 }
 
-// What a bake reports: the stats `bench bake` shares, plus the --verify sums and one entry per probe.
-struct BakeTotals {
-    BakeStats stats;
-    double verifySum = 0.0, verifyNoise = 0.0;
-    std::uint64_t verifyTexels = 0;
-    nlohmann::json perProbe = nlohmann::json::array();
-};
+nlohmann::json timingsJson(const BakeTimings& t) {
+    return {{"gbuffer_ms", t.gbufferMs}, {"ao_ms", t.aoMs}, {"encode_ms", t.encodeMs}, {"error_ms", t.errorMs},
+            {"readback_ms", t.readbackMs}};
+}
 
-// The devices a bake needs. The GL context must outlive the baker (it owns GL objects): declared
-// first, destroyed last.
-struct Bakers {
-    std::optional<gl::HeadlessContext> context;
-    std::unique_ptr<GpuBaker> gpu;
-    std::unique_ptr<EmbreeScene> embree;
+nlohmann::json verifyJson(const VerifyResult& v, const char* prefix) {
+    const std::string p = prefix;
+    return {{p + "_mae", v.mae}, {p + "_noise", v.noise}};
+}
 
-    Bakers(const Scene& scene, const BakeSettings& settings, GBufferMode mode, BakeReadback readback, bool verify) {
-        if (settings.device == BakeDevice::Gpu) {
-            std::string whyNot;
-            context = gl::HeadlessContext::tryCreate(&whyNot);
-            if (!context) throw Error("--device gpu: no OpenGL 4.5 context (" + whyNot + "); use --device cpu");
-            gpu = std::make_unique<GpuBaker>(scene, settings);
-            gpu->setGBufferMode(mode);
-            gpu->setReadback(readback);
-        }
-        if (settings.device == BakeDevice::Cpu || verify) embree = std::make_unique<EmbreeScene>(scene);
-    }
-    BakedProbe bake(const glm::vec3& position, std::uint32_t index, const BakeSettings& settings) const {
-        return gpu ? gpu->bake(position, index) : bakeProbeCpu(*embree, position, index, settings);
-    }
-};
-
-// Bakes probes `todo` into the cache; `verifySettings` is the Embree twin's (with --verify).
-BakeTotals bakeProbes(const BakeArgs& a, const Bakers& bakers, const std::vector<ProbeSpec>& probes,
-                      const std::vector<std::size_t>& todo, const BakeSettings& settings,
-                      const BakeSettings& verifySettings, BakeCacheWriter& cache) {
-    BakeTotals t;
-    Progress progress("bake", todo.size());
-    for (const std::size_t i : todo) {
-        const auto index = std::uint32_t(i);
-        const auto start = std::chrono::steady_clock::now();
-        BakedProbe probe = bakers.bake(probes[i].position, index, settings);
-        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        if (!a.dump.empty()) dumpProbe(a.dump, index, probe);
-        nlohmann::json entry = {{"index", i},
-                                {"pos", {probes[i].position.x, probes[i].position.y, probes[i].position.z}},
-                                {"ms", ms},
-                                {"gbuffer_ms", probe.timings.gbufferMs},
-                                {"ao_ms", probe.timings.aoMs},
-                                {"encode_ms", probe.timings.encodeMs},
-                                {"error_ms", probe.timings.errorMs},
-                                {"readback_ms", probe.timings.readbackMs},
-                                {"surface_texels", probe.encoded.surfaceTexels},
-                                {"traced_texels", probe.tracedTexels},
-                                {"rays", probe.rays},
-                                {"ao_psnr", aoPsnr(probe.encoded.aoSquaredError, probe.encoded.surfaceTexels)}};
-        if (a.verify) {
-            const VerifyResult v = verifyProbe(*bakers.embree, probe, index, verifySettings);
-            entry["verify_mae"] = v.mae;
-            entry["verify_noise"] = v.noise;
-            t.verifySum += v.mae * double(v.texels);
-            t.verifyNoise += v.noise * double(v.texels);
-            t.verifyTexels += v.texels;
-        }
-        t.stats.add(probe, ms);
-        t.perProbe.push_back(std::move(entry));
-        EncodedProbe& e = probe.encoded;
-        cache.add({index, probes[i].position, e.maxDistance, std::move(e.aoConfidence), std::move(e.depth)});
-        progress.advance();
-    }
-    return t;
+nlohmann::json probeJson(const ProbeBakeResult& p, bool timings) {
+    nlohmann::json entry = {{"index", p.index},
+                            {"pos", {p.position.x, p.position.y, p.position.z}},
+                            {"ms", p.ms},
+                            {"surface_texels", p.surfaceTexels},
+                            {"traced_texels", p.tracedTexels},
+                            {"rays", p.rays},
+                            {"ao_psnr", p.aoPsnr}};
+    if (timings) entry.update(timingsJson(p.timings));
+    if (p.verify) entry.update(verifyJson(*p.verify, "verify"));
+    if (p.twin) entry.update(verifyJson(*p.twin, "twin"));
+    return entry;
 }
 
 // The JSON a bake prints (and its one-line summary), from what it baked and what the cache now holds.
-nlohmann::json report(const BakeArgs& a, const Scene& scene, const BakeSettings& settings,
-                      const BakeSettings& verifySettings, const Shard& shard, const BakeTotals& t,
-                      const BakeCacheWriter& cache, std::size_t probesTotal, std::size_t skipped,
+nlohmann::json report(const BakeArgs& a, const Scene& scene, const BakeSettings& settings, const BakeShard& shard,
+                      const BakeResult& r, const BakeCacheWriter& cache, std::size_t probesTotal,
                       const std::string& renderer) {
     const CacheReader written(a.out);
-    const BakeStats& s = t.stats;
-    const std::size_t baked = s.probes();
+    const BakeStats& s = r.stats;
+    nlohmann::json perProbe = nlohmann::json::array();
+    for (const ProbeBakeResult& p : r.probes) perProbe.push_back(probeJson(p, a.timings));
     nlohmann::json result = {{"scene", scene.source},
                              {"scene_hash", hashToString(scene.hash)},
-                             {"probes", baked},
-                             {"probes_skipped", skipped},  // already in the cache
+                             {"probes", s.probes()},
+                             {"probes_skipped", r.skipped},  // already in the cache
                              {"probes_total", probesTotal},
                              {"probes_in_cache", written.probeCount()},
                              {"shard", {shard.index, shard.count}},
                              {"settings", settingsJson(settings)},
                              {"ms_per_probe", median(s.total)},
-                             {"timings_ms", {{"gbuffer", median(s.gbuffer)}, {"ao", median(s.ao)}, {"encode", median(s.encode)},
-                                             {"error", median(s.error)}, {"readback", median(s.readback)},
-                                             {"write_total", cache.writeMs()}}},
                              {"bytes_per_texel", written.bytesPerTexel()},
                              {"file_bytes", written.fileSize()},
-                             {"appends", cache.appends()},
+                             {"appends", cache.appends()},  // batches written (part files, docs/FORMAT.md)
                              {"rays", s.rays},
-                             {"per_probe", t.perProbe},
+                             {"per_probe", perProbe},
                              {"out", a.out}};
     result.update(s.ratesJson());  // ao_psnr, traced_fraction, rays_per_s, rays_per_texel, fetches_per_texel
+    // Stage medians only when asked: on the GPU path timing a stage stalls the pipeline around it.
+    if (a.timings)
+        result["timings_ms"] = {{"gbuffer", median(s.gbuffer)}, {"ao", median(s.ao)},       {"encode", median(s.encode)},
+                                {"error", median(s.error)},     {"readback", median(s.readback)},
+                                {"write_total", cache.writeMs()}, {"merge", cache.mergeMs()}};
     if (!renderer.empty()) result["renderer"] = renderer;
     if (a.verify) {
-        result["verify_mae"] = t.verifyTexels ? t.verifySum / double(t.verifyTexels) : 0.0;
-        result["verify_noise"] = t.verifyTexels ? t.verifyNoise / double(t.verifyTexels) : 0.0;
-        result["verify_spp"] = verifySettings.ao.spp;
+        result.update(verifyJson(r.verify, "verify"));
+        result["verify_spp"] = r.verifySpp;
+        result["verify_seed"] = verifyReferenceSettings(settings, a.verifySpp).ao.seed;
+        if (r.twin.texels) result.update(verifyJson(r.twin, "twin"));
     }
     if (!a.dump.empty()) result["dump"] = a.dump;
+    std::string verifyText;
+    if (a.verify) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, ", verify_mae %.5f (noise %.5f, %d rays)", r.verify.mae, r.verify.noise, r.verifySpp);
+        verifyText = buf;
+        if (r.twin.texels) {
+            std::snprintf(buf, sizeof buf, ", twin_mae %.5f", r.twin.mae);
+            verifyText += buf;
+        }
+    }
     std::printf("bake: %zu probes -> %s (%zu skipped: already there; %zu in the cache), %.1f ms per probe (%s, %s), "
                 "AO PSNR %.1f dB, %.4f bytes/texel%s\n",
-                baked, a.out.c_str(), skipped, written.probeCount(), median(s.total),
+                s.probes(), a.out.c_str(), r.skipped, written.probeCount(), median(s.total),
                 estimatorName(settings.estimator), bakeDeviceName(settings.device), result["ao_psnr"].get<double>(),
-                written.bytesPerTexel(),
-                a.verify ? (", verify_mae " + std::to_string(result["verify_mae"].get<double>())).c_str() : "");
+                written.bytesPerTexel(), verifyText.c_str());
     return result;
 }
 
@@ -212,37 +155,42 @@ void run(const BakeArgs& a) {
     const Scene scene = loadScene(a.scene);
     const std::vector<ProbeSpec> probes = readProbeSet(a.probes);
     const BakeSettings settings = settingsFrom(a, scene);
-    const Shard shard = parseShard(a.shard);
-    const GBufferMode gbufferMode = a.gbuffer == "layered" ? GBufferMode::Layered
-                                    : a.gbuffer == "six-pass"
-                                        ? GBufferMode::SixPass
-                                        : throw UsageError("--gbuffer \"" + a.gbuffer + "\": expected layered or six-pass");
+    const BakeShard shard = parseBakeShard(a.shard);
+    ProbeBakerOptions options;
+    options.gbuffer = a.gbuffer == "layered"    ? GBufferMode::Layered
+                      : a.gbuffer == "six-pass" ? GBufferMode::SixPass
+                                                : throw UsageError("--gbuffer \"" + a.gbuffer + "\": expected layered or six-pass");
+    options.timings = a.timings;
     if (a.verifySpp < 0) throw UsageError("--verify-spp must be positive");
-    BakeSettings verifySettings = settings;  // default: the bake's own rays (traced: the same rays)
-    if (a.verifySpp > 0) verifySettings.ao.spp = a.verifySpp;
 
     BakeCacheWriter cache(a.out, cacheParamsFor(settings, scene.hash), probes);  // checks --out first
-    std::vector<std::size_t> todo;
-    std::size_t inShard = 0;
-    for (std::size_t i = shard.index; i < probes.size(); i += shard.count, ++inShard)
-        if (!cache.has(std::uint32_t(i))) todo.push_back(i);
+    const std::size_t todo = probesToBake(probes.size(), shard, cache).size();
     if (!a.dump.empty()) fs::create_directories(a.dump);
-    spdlog::info("bake: {} ({} triangles), {} probes{}, {} already in {}, {} on the {}, {}² texels per face, R = {}",
+    spdlog::info("bake: {} ({} triangles), {} probes{}, {} to bake into {}, {} on the {}, {}² texels per face, R = {}",
                  scene.source, scene.triangleCount(), probes.size(),
                  shard.count > 1 ? " (shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count) + ")" : "",
-                 inShard - todo.size(), a.out, estimatorName(settings.estimator), bakeDeviceName(settings.device),
-                 settings.res, settings.ao.radius);
+                 todo, a.out, estimatorName(settings.estimator), bakeDeviceName(settings.device), settings.res,
+                 settings.ao.radius);
 
-    const BakeReadback readback = a.verify || !a.dump.empty() ? BakeReadback::All : BakeReadback::Encoded;
-    std::optional<Bakers> bakers;
-    if (!todo.empty()) bakers.emplace(scene, settings, gbufferMode, readback, a.verify);
-    const BakeTotals t = todo.empty() ? BakeTotals{}
-                                      : bakeProbes(a, *bakers, probes, todo, settings, verifySettings, cache);
+    BakeJob job;
+    job.probes = probes;
+    job.shard = shard;
+    if (a.verify) job.verify = VerifySpec{a.verifySpp};
+    if (!a.dump.empty()) job.onProbe = [&](std::uint32_t index, const BakedProbe& p) { dumpProbe(a.dump, index, p); };
+    // The GL context must outlive the baker (it owns GL objects): declared first, destroyed last.
+    std::optional<gl::HeadlessContext> context;
+    if (todo > 0 && settings.device == BakeDevice::Gpu) {
+        std::string whyNot;
+        context = gl::HeadlessContext::tryCreate(&whyNot);
+        if (!context) throw Error("--device gpu: no OpenGL 4.5 context (" + whyNot + "); use --device cpu");
+    }
+    ProbeBaker baker(scene, settings, options);  // sets up on the first probe: nothing when all are there
+    const BakeResult result = bakeProbes(baker, job, cache);
     cache.finish();
 
-    const nlohmann::json result = report(a, scene, settings, verifySettings, shard, t, cache, probes.size(),
-                                         inShard - todo.size(), bakers && bakers->context ? bakers->context->renderer() : "");
-    if (a.json) printJson(result);
+    const nlohmann::json json = report(a, scene, settings, shard, result, cache, probes.size(),
+                                       context ? context->renderer() : "");
+    if (a.json) printJson(json);
 }
 
 }  // namespace
@@ -266,8 +214,11 @@ void addBake(CLI::App& app) {
     cmd->add_option("--device", a->device, "gpu (OpenGL 4.5) | cpu (Embree)")->capture_default_str();
     cmd->add_option("--gbuffer", a->gbuffer, "GPU G-buffer: layered | six-pass")->capture_default_str();
     cmd->add_option("--shard", a->shard, "I/N: bake only the probes with index = I mod N");
-    cmd->add_flag("--verify", a->verify, "Also trace the Embree twin at every texel and report verify_mae");
-    cmd->add_option("--verify-spp", a->verifySpp, "Rays per texel of the --verify reference (default: --spp, the same rays)");
+    cmd->add_flag("--verify", a->verify,
+                  "Also trace an independent Embree reference at every texel and report the bake's error as verify_mae "
+                  "(GPU traced: also twin_mae, against the Embree twin tracing the same rays)");
+    cmd->add_option("--verify-spp", a->verifySpp, "Rays per texel of the --verify reference (default: 4x --spp)");
+    cmd->add_flag("--timings", a->timings, "Time every stage (timings_ms); on the GPU this stalls between stages");
     cmd->add_option("--dump", a->dump, "Directory for per-face EXRs and a cross-layout PNG per probe (uncompressed)");
     cmd->add_option("--depth-res", a->depthRes, "Distance cube texels per side (default res/4)");
     cmd->add_option("--depth-format", a->depthFormat, "r16unorm | r16float | r32float")->capture_default_str();

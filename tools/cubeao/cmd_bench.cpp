@@ -10,10 +10,10 @@
 
 #include <spdlog/spdlog.h>
 
-#include "bake_stats.h"
 #include "cli_util.h"
 #include "commands.h"
 #include "cubeao/bake/bake.h"
+#include "cubeao/bake/bake_driver.h"
 #include "cubeao/bake/gpu_bake.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/context.h"
@@ -31,11 +31,11 @@ struct BenchArgs {
 };
 
 // Probes where a person walks: camera positions spread evenly along the scene's path.
-std::vector<glm::vec3> probePositions(const std::string& scene, const std::string& camera, int count) {
+std::vector<ProbeSpec> probePositions(const std::string& scene, const std::string& camera, int count) {
     const CameraPath path = resolveCameraPath(camera, scene);
-    std::vector<glm::vec3> out;
+    std::vector<ProbeSpec> out;
     for (int i = 0; i < count; ++i)
-        out.push_back(path.frames[std::size_t(i) * path.frames.size() / std::size_t(count)].eye);
+        out.push_back({path.frames[std::size_t(i) * path.frames.size() / std::size_t(count)].eye});
     return out;
 }
 
@@ -52,18 +52,10 @@ nlohmann::json runJson(const BakeStats& stats) {
     return run;
 }
 
-template <class F>
-double timeMs(F&& f) {
-    const auto start = std::chrono::steady_clock::now();
-    f();
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
 nlohmann::json benchScene(const BenchArgs& a, const std::string& spec, const std::string& camera,
                           const std::optional<gl::HeadlessContext>& context) {
     const Scene scene = loadScene(spec);
-    const std::vector<glm::vec3> probes = probePositions(spec, camera, a.probes);
-    const EmbreeScene embree(scene);
+    const std::vector<ProbeSpec> probes = probePositions(spec, camera, a.probes);
     nlohmann::json runs = nlohmann::json::array(), gbufferModes = nlohmann::json::object();
     for (const std::string& device : a.devices) {
         if (device == "gpu" && !context) continue;
@@ -74,29 +66,26 @@ nlohmann::json benchScene(const BenchArgs& a, const std::string& spec, const std
             s.estimator = parseEstimator(estimator);
             s.device = parseBakeDevice(device);
             s = resolveBakeSettings(s, scene.defaultRadius());
-            BakeStats stats;
-            std::unique_ptr<GpuBaker> gpu;
-            double setupMs = 0.0;
-            if (device == "gpu") setupMs = timeMs([&] { gpu = std::make_unique<GpuBaker>(scene, s); });
-            for (std::size_t i = 0; i < probes.size(); ++i) {
-                BakedProbe p;
-                const double ms = timeMs([&] {
-                    p = gpu ? gpu->bake(probes[i], std::uint32_t(i)) : bakeProbeCpu(embree, probes[i], std::uint32_t(i), s);
-                });
-                stats.add(p, ms);
-            }
-            if (gpu && gbufferModes.empty()) {  // G-buffer mode is independent of the estimator: once per scene
+            ProbeBakerOptions options;
+            options.timings = true;  // the point of the bench: every stage alone
+            ProbeBaker baker(scene, s, options);
+            BakeJob job;
+            job.probes = probes;
+            job.progressLabel.clear();
+            MemoryProbeSink sink;
+            const BakeStats stats = bakeProbes(baker, job, sink).stats;
+            if (baker.onGpu() && gbufferModes.empty()) {  // G-buffer mode is independent of the estimator: once per scene
                 for (const auto& [name, mode] : {std::pair{"layered", GBufferMode::Layered}, std::pair{"six_pass", GBufferMode::SixPass}}) {
-                    gpu->setGBufferMode(mode);
+                    baker.setGBufferMode(mode);
                     std::vector<double> ms;
-                    for (std::size_t i = 0; i < probes.size(); ++i) ms.push_back(gpu->bake(probes[i], 0).timings.gbufferMs);
+                    for (const ProbeSpec& p : probes) ms.push_back(baker.bake(p.position, 0).timings.gbufferMs);
                     gbufferModes[name] = median(ms);
                 }
             }
             nlohmann::json run = runJson(stats);
             run["device"] = device;
             run["estimator"] = estimator;
-            run["setup_ms"] = setupMs;  // GPU: upload, BVH build, shader compilation
+            run["setup_ms"] = baker.setupMs();  // GPU: upload, BVH build, shader compilation; CPU: Embree BVH
             std::printf("  %-4s %-7s %9.1f ms/probe  (G-buffer %8.1f, AO %9.1f, encode %6.1f = %5.1f%% of AO, read-back %6.1f)  "
                         "%7.2f Mrays/s  %5.1f fetches/texel  traced %5.1f%%\n",
                         device.c_str(), estimator.c_str(), run["ms_per_probe"].get<double>(), run["gbuffer_ms"].get<double>(),

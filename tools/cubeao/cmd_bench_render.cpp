@@ -35,6 +35,7 @@
 #include "commands.h"
 #include "render_setup.h"
 #include "cubeao/bake/bake.h"
+#include "cubeao/bake/bake_driver.h"
 #include "cubeao/core/error.h"
 #include "cubeao/core/progress.h"
 #include "cubeao/gl/context.h"
@@ -120,18 +121,18 @@ SweepProbes bakeSweepProbes(const RenderBenchArgs& a, const Scene& scene, const 
     s.settings.ao.spp = a.spp;
     s.settings.device = BakeDevice::Cpu;
     s.settings = resolveBakeSettings(s.settings, scene.defaultRadius());
-    const EmbreeScene rt(scene);
+    ProbeBaker baker(scene, s.settings);
+    baker.prepare();
     const float r = s.settings.ao.radius;
-    const std::vector<glm::vec3> positions = sweepPositions(rt, path, 10.0f * r, 0.25f * r, count);
+    std::vector<ProbeSpec> probes;
+    for (const glm::vec3& p : sweepPositions(baker.embree(), path, 10.0f * r, 0.25f * r, count)) probes.push_back({p});
     spdlog::info("bench render: baking {} sweep probes at {}² (CPU, traced, {} rays per texel)", count, a.res, a.spp);
     const auto start = std::chrono::steady_clock::now();
-    Progress progress("bake", count);
-    for (std::size_t i = 0; i < count; ++i) {
-        BakedProbe p = bakeProbeCpu(rt, positions[i], std::uint32_t(i), s.settings);
-        s.records.push_back({std::uint32_t(i), positions[i], p.encoded.maxDistance, std::move(p.encoded.aoConfidence),
-                             std::move(p.encoded.depth)});
-        progress.advance();
-    }
+    BakeJob job;
+    job.probes = probes;
+    MemoryProbeSink sink;
+    bakeProbes(baker, job, sink);
+    s.records = std::move(sink.records);
     s.bakeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return s;
 }

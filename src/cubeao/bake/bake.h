@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "cubeao/bake/bake_settings.h"
@@ -31,6 +32,12 @@ struct EncodedProbe {
     double aoSquaredError = 0.0;             // Σ (decoded BC5 AO − AO)² over the surface texels
     std::uint64_t surfaceTexels = 0;         // texels that show a surface (G-buffer distance > 0)
 };
+
+// The one conversion from what a baker made to what the cache stores (and tools read back): the
+// encoded sections are moved, so `e` is left empty.
+inline ProbeRecord probeRecord(std::uint32_t index, const glm::vec3& position, EncodedProbe&& e) {
+    return {index, position, e.maxDistance, std::move(e.aoConfidence), std::move(e.depth)};
+}
 
 // PSNR in dB (peak 1) of an AO error: 10·log10(texels / squaredError), capped at 100 dB for an exact
 // encoding (and 100 for no texels) so JSON never needs infinity.
@@ -76,15 +83,26 @@ std::uint64_t traceTexelsCpu(const EmbreeScene& scene, const CubeGBuffer& g, std
                              const BakeSettings& settings, std::vector<float>& ao,
                              const std::vector<std::uint8_t>& only = {});
 
-// Embree twin at the baked texel points: mean |ao − reference| over the non-empty texels, with the
-// reference computed by ambientOcclusion() with settings.ao and each texel's key, so with the bake's
-// own settings it traces the same rays as `traced`. Pass more spp for a quality figure instead; then
-// `noise` (the reference's mean standard error) says how much of the MAE is the reference's own.
+// Mean |ao − reference| over the baked probe's non-empty texels, the reference computed by Embree
+// (ambientOcclusion() with `reference`'s AO settings and each texel's texelKey) at each texel's
+// surface point. Two uses (DESIGN.md §5 `bake --verify`):
+// - the bake's error: `reference` = verifyReferenceSettings(bake settings), an independent estimate
+//   (another seed, 4× the rays), so the MAE measures the bake on every path, `traced` included;
+//   `noise` (the reference's mean standard error) says how much of the MAE is the reference's own;
+// - the twin check (`twin_mae`): `reference` = the bake's own settings, so for `traced` it traces the
+//   same rays as the bake and any difference is a GPU/Embree disagreement (grazing-ray flips only).
 struct VerifyResult {
     double mae = 0.0;
     double noise = 0.0;
     std::uint64_t texels = 0;
 };
+// What `bake --verify` compares against: the bake's AO settings (radius, falloff) with the seed
+// changed by kVerifySeedSalt (independent samples for every texel of every probe: the GPU key is
+// probeIndex ^ seed, and the salt is far above any probe count) and `spp` rays per texel, or
+// kVerifyRayFactor × the bake's when `spp` is 0. 4× the rays halve the reference's share of the noise.
+constexpr std::uint32_t kVerifySeedSalt = 0x9E3779B9u;
+constexpr int kVerifyRayFactor = 4;
+BakeSettings verifyReferenceSettings(const BakeSettings& bake, int spp = 0);
 VerifyResult verifyProbe(const EmbreeScene& scene, const BakedProbe& probe, std::uint32_t probeIndex,
                          const BakeSettings& settings);
 

@@ -1,5 +1,6 @@
 #include "cubeao/bake/bake_cache.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -24,6 +25,55 @@ std::string vecText(const glm::vec3& v) {
 
 }  // namespace
 
+void MemoryProbeSink::add(ProbeRecord probe) {
+    if (!indices_.insert(probe.index).second) throw Error("probe index " + std::to_string(probe.index) + " baked twice");
+    records.push_back(std::move(probe));
+}
+
+namespace {
+
+// The probe indices of the cache `file` (the output or one of its parts), after checking that it is
+// the same bake: parameters and scene hash, and every index at the position the probe set gives it.
+std::vector<std::uint32_t> sameBakeIndices(const fs::path& file, const CacheParams& params,
+                                           std::span<const ProbeSpec> probes) {
+    std::unique_ptr<CacheReader> cache;
+    try {
+        cache = std::make_unique<CacheReader>(file);
+    } catch (const Error& e) {
+        throw Error(std::string(e.what()) + " (--out exists and is not a readable cache: " + kStartOver + ")");
+    }
+    if (const auto d = cacheParamDifferences(cache->params(), params); !d.empty()) {
+        std::string list;
+        for (const auto& x : d) list += (list.empty() ? "" : ", ") + x;
+        throw Error(file.string() + ": exists with other bake parameters (cache vs this bake: " + list + "); " +
+                    kStartOver);
+    }
+    std::vector<std::uint32_t> indices;
+    for (std::size_t i = 0; i < cache->probeCount(); ++i) {
+        const std::uint32_t index = cache->index(i);
+        const glm::vec3 cached = cache->position(i);
+        if (index >= probes.size() || probes[index].position != cached)
+            throw Error(file.string() + ": holds probe index " + std::to_string(index) + " at " + vecText(cached) +
+                        (index < probes.size() ? ", the probe set puts it at " + vecText(probes[index].position)
+                                               : ", the probe set has " + std::to_string(probes.size()) + " probes") +
+                        ": the probe set changed; " + kStartOver);
+        indices.push_back(index);
+    }
+    return indices;
+}
+
+double msSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+fs::path BakeCacheWriter::partPath(const fs::path& path, std::size_t n) {
+    char suffix[32];
+    std::snprintf(suffix, sizeof suffix, ".part-%06zu", n);
+    return fs::path(path.string() + suffix);
+}
+
 BakeCacheWriter::BakeCacheWriter(fs::path path, const CacheParams& params, std::span<const ProbeSpec> probes,
                                  Options options)
     : path_(std::move(path)), params_(params), options_(options) {
@@ -32,31 +82,44 @@ BakeCacheWriter::BakeCacheWriter(fs::path path, const CacheParams& params, std::
     if (status.type() == fs::file_type::directory)
         throw Error(path_.string() + ": --out is a directory; bake now writes one .cubeao cache file (" +
                     "e.g. --out " + (path_ / "probes.cubeao").string() + ")");
-    if (status.type() == fs::file_type::not_found) return;
+    std::set<std::uint32_t> inOutput;
+    if (status.type() != fs::file_type::not_found)
+        for (const std::uint32_t index : sameBakeIndices(path_, params_, probes)) inOutput.insert(index);
+    stored_ = inOutput;
+    adoptParts(probes, inOutput);
+    atStart_ = stored_.size();
+}
 
-    std::unique_ptr<CacheReader> cache;
-    try {
-        cache = std::make_unique<CacheReader>(path_);
-    } catch (const Error& e) {
-        throw Error(std::string(e.what()) + " (--out exists and is not a readable cache: " + kStartOver + ")");
+// Part files of an earlier run: numbered "PATH.part-NNNNNN" beside the output (their temporary files
+// have other names and are never taken for parts).
+void BakeCacheWriter::adoptParts(std::span<const ProbeSpec> probes, const std::set<std::uint32_t>& inOutput) {
+    const fs::path dir = path_.has_parent_path() ? path_.parent_path() : fs::path(".");
+    const std::string prefix = path_.filename().string() + ".part-";
+    std::vector<std::pair<std::size_t, fs::path>> found;
+    std::error_code ec;
+    for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+        const std::string name = e.path().filename().string();
+        if (name.size() != prefix.size() + 6 || name.compare(0, prefix.size(), prefix) != 0) continue;
+        const std::string digits = name.substr(prefix.size());
+        if (digits.find_first_not_of("0123456789") != std::string::npos) continue;
+        found.emplace_back(std::stoul(digits), path_.has_parent_path() ? e.path() : fs::path(name));
     }
-    if (const auto d = cacheParamDifferences(cache->params(), params); !d.empty()) {
-        std::string list;
-        for (const auto& x : d) list += (list.empty() ? "" : ", ") + x;
-        throw Error(path_.string() + ": exists with other bake parameters (cache vs this bake: " + list + "); " +
-                    kStartOver);
+    std::sort(found.begin(), found.end());
+    for (const auto& [n, part] : found) {
+        const std::vector<std::uint32_t> indices = sameBakeIndices(part, params_, probes);
+        nextPart_ = std::max(nextPart_, n + 1);
+        if (!indices.empty() && std::all_of(indices.begin(), indices.end(), [&](std::uint32_t i) { return inOutput.count(i); })) {
+            spdlog::info("{}: already merged into {} (an earlier finish was interrupted): removed", part.string(),
+                         path_.string());
+            fs::remove(part);
+            continue;
+        }
+        for (const std::uint32_t index : indices)
+            if (!stored_.insert(index).second)
+                throw Error(part.string() + ": holds probe index " + std::to_string(index) +
+                            ", which the cache or an earlier part holds too; " + kStartOver + " and its parts");
+        parts_.push_back(part);
     }
-    for (std::size_t i = 0; i < cache->probeCount(); ++i) {
-        const std::uint32_t index = cache->index(i);
-        const glm::vec3 cached = cache->position(i);
-        if (index >= probes.size() || probes[index].position != cached)
-            throw Error(path_.string() + ": holds probe index " + std::to_string(index) + " at " + vecText(cached) +
-                        (index < probes.size() ? ", the probe set puts it at " + vecText(probes[index].position)
-                                               : ", the probe set has " + std::to_string(probes.size()) + " probes") +
-                        ": the probe set changed; " + kStartOver);
-        stored_.insert(index);
-    }
-    atStart_ = cache->probeCount();
 }
 
 BakeCacheWriter::~BakeCacheWriter() {
@@ -64,7 +127,7 @@ BakeCacheWriter::~BakeCacheWriter() {
     try {
         flush();
     } catch (const std::exception& e) {
-        spdlog::error("{}: could not save the {} probes baked since the last append: {}", path_.string(),
+        spdlog::error("{}: could not save the {} probes baked since the last batch: {}", path_.string(),
                       pending_.size(), e.what());
     }
 }
@@ -80,17 +143,33 @@ void BakeCacheWriter::add(ProbeRecord probe) {
 }
 
 void BakeCacheWriter::finish() {
+    if (!pending_.empty()) flush();
     std::error_code ec;
-    if (pending_.empty() && fs::exists(path_, ec)) return;
-    flush();  // appendToCache creates the file, empty or not
+    const bool haveOutput = fs::exists(path_, ec);
+    if (parts_.empty()) {
+        if (!haveOutput) writeCache(path_, params_, std::vector<ProbeRecord>{});
+        return;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<fs::path> inputs;
+    if (haveOutput) inputs.push_back(path_);
+    inputs.insert(inputs.end(), parts_.begin(), parts_.end());
+    mergeCaches(path_, inputs);  // atomic; until its rename the output and the parts are as they were
+    for (const fs::path& part : parts_) fs::remove(part, ec);  // a leftover is removed by the next run
+    parts_.clear();
+    mergeMs_ += msSince(start);
 }
 
+// One batch, one part file: O(batch), however many probes the output and earlier parts hold.
 void BakeCacheWriter::flush() {
     const auto start = std::chrono::steady_clock::now();
-    appendToCache(path_, params_, pending_);
+    const fs::path part = partPath(path_, nextPart_);
+    writeCache(part, params_, pending_);
+    ++nextPart_;
+    parts_.push_back(part);
     pending_.clear();
     ++appends_;
-    writeMs_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    writeMs_ += msSince(start);
 }
 
 }  // namespace cubeao

@@ -168,6 +168,14 @@ EncodedProbe encodeProbeCpu(const CubeGBuffer& g, const std::vector<float>& ao, 
     return e;
 }
 
+BakeSettings verifyReferenceSettings(const BakeSettings& bake, int spp) {
+    if (spp < 0) throw UsageError("--verify-spp " + std::to_string(spp) + ": expected a positive number of rays");
+    BakeSettings reference = bake;
+    reference.ao.seed = bake.ao.seed ^ kVerifySeedSalt;
+    reference.ao.spp = spp > 0 ? spp : kVerifyRayFactor * bake.ao.spp;
+    return reference;
+}
+
 VerifyResult verifyProbe(const EmbreeScene& scene, const BakedProbe& probe, std::uint32_t probeIndex,
                          const BakeSettings& settings) {
     const CubeGBuffer& g = probe.gbuffer;

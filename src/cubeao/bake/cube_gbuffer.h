@@ -9,7 +9,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-#include "cubeao/bake/cube.h"
+#include "cubeao/core/cube.h"
 
 namespace cubeao {
 

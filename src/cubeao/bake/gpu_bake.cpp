@@ -1,14 +1,16 @@
 #include "cubeao/bake/gpu_bake.h"
 
 #include <chrono>
+#include <functional>
 #include <string>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/vec4.hpp>
 
+#include "common/bake_layout.h"
 #include "cubeao/bake/bvh.h"
-#include "cubeao/bake/cube.h"
+#include "cubeao/core/cube.h"
 #include "cubeao/bake/gpu_bc5.h"
 #include "cubeao/bake/gpu_bvh.h"
 #include "cubeao/bake/gpu_depth.h"
@@ -22,12 +24,10 @@
 namespace cubeao {
 namespace {
 
-constexpr GLuint kTraceGroup = 64;  // local_size_x of ao_traced.comp and hybrid_select.comp
+using kernel::bakeGroups;  // binding points, group sizes and buffer structs: common/bake_layout.h
 
 bool needsHorizon(Estimator e) { return e != Estimator::Traced; }
 bool needsTracing(Estimator e) { return e == Estimator::Traced || e == Estimator::Hybrid; }
-
-GLuint groups(std::size_t n, GLuint size) { return GLuint((n + size - 1) / size); }
 
 }  // namespace
 
@@ -35,6 +35,7 @@ struct GpuBaker::Impl {
     float zNear = 0.0f, surfaceEpsilon = 0.0f;
     GBufferMode mode = GBufferMode::Layered;
     BakeReadback readback = BakeReadback::Encoded;
+    bool timings = false;  // per-stage timeGpu (stalls between stages): bench and --timings only
 
     std::unique_ptr<gl::GpuMesh> mesh;  // positions, indices, per-triangle normals
     gl::Buffer aoBuffer, texelList, fetchCount;
@@ -48,12 +49,18 @@ struct GpuBaker::Impl {
     void renderGBuffer(const glm::vec3& probe, int res);
     void horizonPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
     void tracedPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
-    std::uint32_t hybridPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
+    void hybridPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
+    // Texels the last hybrid pass traced: read once the probe's work is done, not between passes.
+    std::uint32_t hybridTraced() const {
+        kernel::TexelListHeader header{};
+        glGetNamedBufferSubData(texelList.id(), 0, sizeof header, &header);
+        return header.count;
+    }
     void readAll(BakedProbe& out, const glm::vec3& probe, int res) const;
     std::uint64_t fetches() const {
-        std::uint32_t words[2] = {0u, 0u};
-        glGetNamedBufferSubData(fetchCount.id(), 0, sizeof words, words);
-        return std::uint64_t(words[1]) << 32 | words[0];
+        kernel::FetchCount count{0u, 0u};
+        glGetNamedBufferSubData(fetchCount.id(), 0, sizeof count, &count);
+        return std::uint64_t(count.fetchesHigh) << 32 | count.fetchesLow;
     }
 };
 
@@ -83,7 +90,7 @@ GpuBaker::GpuBaker(const Scene& scene, const BakeSettings& settings) : impl_(std
                                  {{"LAYERED", "1"}});
     m.sixPass = gl::compileRenderProgram("bake/gbuffer.vert", "bake/gbuffer.frag");
     m.fetchCount = gl::Buffer::create();
-    glNamedBufferStorage(m.fetchCount.id(), 2 * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(m.fetchCount.id(), sizeof(kernel::FetchCount), nullptr, GL_DYNAMIC_STORAGE_BIT);
     if (needsHorizon(settings.estimator)) {
         const bool gtao = settings.estimator == Estimator::Gtao;
         m.horizon = gl::compileComputeProgram("bake/ao_horizon.comp", {{"ESTIMATOR", gtao ? "1" : "0"}});
@@ -98,7 +105,7 @@ GpuBaker::GpuBaker(const Scene& scene, const BakeSettings& settings) : impl_(std
         m.tracedList = gl::compileComputeProgram("bake/ao_traced.comp", {{"TEXEL_LIST", "1"}});
         m.select = gl::compileComputeProgram("bake/hybrid_select.comp");
         m.texelList = gl::Buffer::create();
-        glNamedBufferStorage(m.texelList.id(), GLsizeiptr(sizeof(glm::uvec4) + texels * sizeof(std::uint32_t)), nullptr,
+        glNamedBufferStorage(m.texelList.id(), GLsizeiptr(sizeof(kernel::TexelListHeader) + texels * sizeof(std::uint32_t)), nullptr,
                              GL_DYNAMIC_STORAGE_BIT);
     }
 }
@@ -107,6 +114,7 @@ GpuBaker::~GpuBaker() = default;
 
 void GpuBaker::setGBufferMode(GBufferMode mode) { impl_->mode = mode; }
 void GpuBaker::setReadback(BakeReadback readback) { impl_->readback = readback; }
+void GpuBaker::setTimings(bool timings) { impl_->timings = timings; }
 
 
 void GpuBaker::Impl::renderGBuffer(const glm::vec3& probe, int res) {
@@ -168,7 +176,7 @@ void setAoUniforms(GLuint program, const glm::vec3& probe, std::uint32_t probeKe
     setUniform(program, "probe", probe);
     setUniform(program, "res", s.res);
     setUniform(program, "radius", s.ao.radius);
-    setUniform(program, "falloff", s.ao.falloff == Falloff::Smooth ? 1 : 0);
+    setUniform(program, "falloff", falloffUniform(s.ao.falloff));
     setUniform(program, "probeKey", probeKey);
     setUniform(program, "directions", s.directions);
     setUniform(program, "steps", s.steps);
@@ -178,14 +186,15 @@ void setAoUniforms(GLuint program, const glm::vec3& probe, std::uint32_t probeKe
 }  // namespace
 
 void GpuBaker::Impl::horizonPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
-    const std::uint32_t zero[2] = {0u, 0u};
-    glNamedBufferSubData(fetchCount.id(), 0, sizeof zero, zero);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, fetchCount.id());
+    const kernel::FetchCount zero{0u, 0u};
+    glNamedBufferSubData(fetchCount.id(), 0, sizeof zero, &zero);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeFetchCountBuffer, fetchCount.id());
     setAoUniforms(horizon.id(), probe, probeKey, s);
     glUseProgram(horizon.id());
-    glBindTextureUnit(0, gbuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, aoBuffer.id());
-    glDispatchCompute(groups(std::size_t(s.res), 8), groups(std::size_t(s.res), 8), cube::kFaces);
+    glBindTextureUnit(kernel::kBakeGBufferUnit, gbuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeAoBuffer, aoBuffer.id());
+    glDispatchCompute(bakeGroups(std::size_t(s.res), kernel::kBakeTileSize), bakeGroups(std::size_t(s.res), kernel::kBakeTileSize),
+                      cube::kFaces);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
@@ -193,37 +202,36 @@ void GpuBaker::Impl::tracedPass(const glm::vec3& probe, std::uint32_t probeKey, 
     setAoUniforms(traced.id(), probe, probeKey, s);
     setUniform(traced.id(), "surfaceEpsilon", surfaceEpsilon);
     glUseProgram(traced.id());
-    glBindTextureUnit(0, gbuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, aoBuffer.id());
-    bvh->bind(10, 11);
-    glDispatchCompute(groups(std::size_t(cube::kFaces) * std::size_t(s.res) * std::size_t(s.res), kTraceGroup), 1, 1);
+    glBindTextureUnit(kernel::kBakeGBufferUnit, gbuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeAoBuffer, aoBuffer.id());
+    bvh->bind();
+    glDispatchCompute(bakeGroups(std::size_t(cube::kFaces) * std::size_t(s.res) * std::size_t(s.res), kernel::kBakeListGroupSize),
+                      1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
-std::uint32_t GpuBaker::Impl::hybridPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
+void GpuBaker::Impl::hybridPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
     horizonPass(probe, probeKey, s);
-    const glm::uvec4 header(0u, 1u, 1u, 0u);  // indirect dispatch (x, y, z) + count
+    const kernel::TexelListHeader header{0u, 1u, 1u, 0u};  // indirect dispatch (x, y, z) + count
     glNamedBufferSubData(texelList.id(), 0, sizeof header, &header);
     setUniform(select.id(), "res", s.res);
     setUniform(select.id(), "threshold", s.hybridThreshold);
     glUseProgram(select.id());
-    glBindTextureUnit(0, gbuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, aoBuffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, texelList.id());
-    glDispatchCompute(groups(std::size_t(cube::kFaces) * std::size_t(s.res) * std::size_t(s.res), kTraceGroup), 1, 1);
+    glBindTextureUnit(kernel::kBakeGBufferUnit, gbuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeAoBuffer, aoBuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeTexelListBuffer, texelList.id());
+    glDispatchCompute(bakeGroups(std::size_t(cube::kFaces) * std::size_t(s.res) * std::size_t(s.res), kernel::kBakeListGroupSize),
+                      1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
     setAoUniforms(tracedList.id(), probe, probeKey, s);
     setUniform(tracedList.id(), "surfaceEpsilon", surfaceEpsilon);
     glUseProgram(tracedList.id());
-    bvh->bind(10, 11);
+    bvh->bind();
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, texelList.id());
     glDispatchComputeIndirect(0);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    glm::uvec4 done;
-    glGetNamedBufferSubData(texelList.id(), 0, sizeof done, &done);
-    return done.w;
 }
 
 // The uncompressed G-buffer, AO and confidence (BakeReadback::All).
@@ -248,29 +256,34 @@ BakedProbe GpuBaker::bake(const glm::vec3& probe, std::uint32_t probeIndex) {
     const BakeSettings& s = settings_;
     const std::uint32_t probeKey = probeIndex ^ s.ao.seed;
     BakedProbe out;
-    out.timings.gbufferMs = gl::timeGpu([&] { m.renderGBuffer(probe, s.res); }).ms();
-
-    std::uint32_t traced = 0;
-    out.timings.aoMs = gl::timeGpu([&] {
-                           switch (s.estimator) {
-                               case Estimator::HorizonSplit:
-                               case Estimator::Gtao: m.horizonPass(probe, probeKey, s); break;
-                               case Estimator::Traced: m.tracedPass(probe, probeKey, s); break;
-                               case Estimator::Hybrid: traced = m.hybridPass(probe, probeKey, s); break;
-                           }
-                       }).ms();
-
-    out.timings.encodeMs = gl::timeGpu([&] {
-                               m.bc5->encode(m.aoBuffer.id());
-                               m.depthCube->encode(m.gbuffer.id());
-                           }).ms();
+    // Without timings the stages are queued back to back and the first read-back waits for them all;
+    // with them each stage is timed alone (timeGpu finishes the work before and after it).
+    const auto stage = [&](double& ms, const std::function<void()>& work) {
+        if (m.timings)
+            ms = gl::timeGpu(work).ms();
+        else
+            work();
+    };
+    stage(out.timings.gbufferMs, [&] { m.renderGBuffer(probe, s.res); });
+    stage(out.timings.aoMs, [&] {
+        switch (s.estimator) {
+            case Estimator::HorizonSplit:
+            case Estimator::Gtao: m.horizonPass(probe, probeKey, s); break;
+            case Estimator::Traced: m.tracedPass(probe, probeKey, s); break;
+            case Estimator::Hybrid: m.hybridPass(probe, probeKey, s); break;
+        }
+    });
+    stage(out.timings.encodeMs, [&] {
+        m.bc5->encode(m.aoBuffer.id());
+        m.depthCube->encode(m.gbuffer.id());
+    });
     const auto clock = std::chrono::steady_clock::now;
     const auto msSince = [&](auto start) { return std::chrono::duration<double, std::milli>(clock() - start).count(); };
     const auto errorStart = clock();
     const GpuBc5Encoder::AoError error = m.bc5->aoError(m.aoBuffer.id(), m.gbuffer.id());
     out.encoded.aoSquaredError = error.squaredError;
     out.encoded.surfaceTexels = error.texels;
-    out.timings.errorMs = msSince(errorStart);
+    if (m.timings) out.timings.errorMs = msSince(errorStart);  // else: mostly the wait for every stage
 
     const auto readbackStart = clock();
     out.encoded.aoConfidence = m.bc5->read();
@@ -278,11 +291,11 @@ BakedProbe GpuBaker::bake(const glm::vec3& probe, std::uint32_t probeIndex) {
     out.encoded.depth = std::move(depth.bytes);
     out.encoded.maxDistance = depth.maxDistance;
     if (m.readback == BakeReadback::All) m.readAll(out, probe, s.res);
-    out.timings.readbackMs = msSince(readbackStart);
+    if (m.timings) out.timings.readbackMs = msSince(readbackStart);
 
     if (needsHorizon(s.estimator)) out.fetches = m.fetches();
     if (s.estimator == Estimator::Traced) out.tracedTexels = out.encoded.surfaceTexels;
-    if (s.estimator == Estimator::Hybrid) out.tracedTexels = traced;
+    if (s.estimator == Estimator::Hybrid) out.tracedTexels = m.hybridTraced();
     out.rays = out.tracedTexels * std::uint64_t(s.ao.spp);
     return out;
 }

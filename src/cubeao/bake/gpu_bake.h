@@ -38,9 +38,12 @@ public:
 
     void setGBufferMode(GBufferMode mode);
     void setReadback(BakeReadback readback);  // default: Encoded
+    // Per-stage timings (BakedProbe::timings): each stage then runs alone between glFinish calls
+    // (gl::timeGpu), a stall a production bake must not pay. Default off: the stage times stay 0.
+    void setTimings(bool timings);
 
     // G-buffer, AO, BC5 and distance cube encoding and the BC5 AO error on the GPU, then the
-    // read-back the readback mode asks for; timings per stage (see BakedProbe::timings).
+    // read-back the readback mode asks for; timings per stage only with setTimings(true).
     BakedProbe bake(const glm::vec3& probe, std::uint32_t probeIndex);
 
     // For tests: the horizon pass alone on a given G-buffer (uploaded), returning (ao, confidence)

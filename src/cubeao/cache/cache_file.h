@@ -171,8 +171,9 @@ private:
     std::unique_ptr<std::atomic<std::uint8_t>[]> verified_;  // per probe: checksum already matched
 };
 
-// Resume a bake: `path`'s probes followed by `newProbes`, rewritten atomically (the whole file is
-// written again: docs/FORMAT.md "Appending"). The existing cache must have exactly `params` (scene
+// `path`'s probes followed by `newProbes`, rewritten atomically (the whole file is written again, so
+// O(file size): a bake writes its batches as part files instead, bake/bake_cache.h, docs/FORMAT.md
+// "Appending"). The existing cache must have exactly `params` (scene
 // hash included) and its probes must pass their checksums; a new probe at the position or with the
 // index of an existing one is an error. A missing `path` is created as by writeCache.
 void appendToCache(const std::filesystem::path& path, const CacheParams& params, std::span<const ProbeView> newProbes,
