@@ -88,6 +88,28 @@ TEST(ShaderPreprocess, EachFileIsIncludedOnce) {
     EXPECT_EQ(out.sourceNames.size(), 4u);           // main, a, c, b
 }
 
+TEST(ShaderPreprocess, CppOnlyBlocksAreDroppedAndGlslOnlyOnesKept) {
+    TempDir dir;
+    // A shared kernel header: C++ includes GLM (which the loader could not resolve), GLSL keeps its own
+    // branch; an ordinary #if passes through, also inside a kept branch.
+    dir.write("k.h",
+              "#ifdef __cplusplus\n#include <glm/glm.hpp>\n#if X\nint cpp;\n#endif\n#else\n#define G 1\n#endif\n"
+              "#if !defined(__cplusplus)\nfloat glsl;\n#else\nfloat notGlsl;\n#endif\n"
+              "#ifndef __cplusplus\n#ifdef FOO\nint foo;\n#endif\n#endif\nfloat k;\n");
+    const std::string src = "#version 450\n#include \"k.h\"\nvoid main() {}\n";
+    const gl::PreprocessedShader out = gl::preprocessShaderSource(src, dir.path(), {}, "main.comp");
+    EXPECT_EQ(out.text,
+              "#version 450\n#line 2 0\n#line 1 1\n"
+              "\n\n\n\n\n\n#define G 1\n\n"
+              "\nfloat glsl;\n\n\n\n"
+              "\n#ifdef FOO\nint foo;\n#endif\n\nfloat k;\n"
+              "#line 3 0\nvoid main() {}\n");
+    dir.write("open.h", "#ifdef __cplusplus\nint x;\n");
+    EXPECT_NE(errorMessage([&] { gl::preprocessShader("#version 450\n#include \"open.h\"\n", dir.path(), {}, "m.comp"); })
+                  .find("open.h:1: #if without #endif"),
+              std::string::npos);
+}
+
 TEST(ShaderPreprocess, MissingIncludeNamesFileAndLine) {
     TempDir dir;
     dir.write("a.glsl", "float a;\n#include \"nope.glsl\"\n");
@@ -185,9 +207,9 @@ TEST_F(GlTest, SecondContextOnTheSameDisplayLeavesTheFirstUsable) {
 
 TEST_F(GlTest, ComputeShaderWithIncludeAndDefineFillsSsbo) {
     constexpr GLuint kCount = 64;
-    // kPi comes from shaders/common/constants.glsl (default include dir), OFFSET from the defines.
+    // kPi comes from shaders/common/constants.h (default include dir), OFFSET from the defines.
     const std::string src = R"(#version 450 core
-#include "constants.glsl"
+#include "constants.h"
 layout(local_size_x = 16) in;
 layout(std430, binding = 0) writeonly buffer Out { float values[]; };
 void main() {
@@ -358,3 +380,34 @@ TEST(GlWindow, ClearsAndReadsBackTheDefaultFramebuffer) {
 
 }  // namespace
 }  // namespace cubeao::gl
+
+// ---- shader warnings ---------------------------------------------------------------------------
+
+namespace {
+
+// Issue 11: a compiler warning fails the build of a program under the tests (tests/test_main.cpp
+// turns shaderWarningsFatal on), naming the file and line; with warnings merely logged the same
+// program builds. The warning: a local read before it is written (Mesa: "`x' used uninitialized").
+TEST_F(GlTest, ShaderWarningsFailTheBuildWhenFatal) {
+    ASSERT_TRUE(gl::shaderWarningsFatal()) << "test_main.cpp makes every test binary's warnings fatal";
+    const std::string src = R"(#version 450 core
+layout(local_size_x = 1) in;
+layout(std430, binding = 0) writeonly buffer Out { float values[]; };
+void main() {
+    float x;
+    values[0] = x;
+})";
+    const std::string message = errorMessage([&] { (void)gl::buildProgram({{GL_COMPUTE_SHADER, src, "warning_test.comp"}}); });
+    EXPECT_NE(message.find("warning_test.comp:6"), std::string::npos) << message;
+    EXPECT_NE(message.find("warnings are errors"), std::string::npos) << message;
+    gl::setShaderWarningsFatal(false);
+    EXPECT_NO_THROW((void)gl::buildProgram({{GL_COMPUTE_SHADER, src, "warning_test.comp"}}));
+    gl::setShaderWarningsFatal(true);
+    // Mesa's shader cache has now seen this source compile, and skips compiling it again (no log, no
+    // warning): the fatal mode must still see the warning.
+    EXPECT_NE(errorMessage([&] { (void)gl::buildProgram({{GL_COMPUTE_SHADER, src, "warning_test.comp"}}); })
+                  .find("warning_test.comp:6"),
+              std::string::npos);
+}
+
+}  // namespace

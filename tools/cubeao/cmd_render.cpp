@@ -32,12 +32,19 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RenderArgs {
-    std::string scene, camera, out, cache, frames, method = "gtao", falloff = "none";
+    std::string scene, camera, out, cache, frames, method, falloff = "none";  // method "": withDefaults
     int width = 0, height = 0, directions = 0, steps = 0, blur = BlurSettings{}.radius;
     float radius = 0.0f, alpha = 1.0f, alchemySigma = 0.0f;
     std::uint32_t seed = 0;
     bool json = false;
 };
+
+// A cache is only of use to `probes`, so giving one picks it; without one, gtao (the best baseline
+// against the reference: docs/BENCHMARKS.md). An explicit --method always wins.
+RenderArgs withDefaults(RenderArgs a) {
+    if (a.method.empty()) a.method = a.cache.empty() ? "gtao" : "probes";
+    return a;
+}
 
 // Every problem with the method choice is a usage error, found before any file is read. `probes`
 // keeps gtao's settings for the JSON fields it shares with the baselines.
@@ -177,8 +184,8 @@ void addRender(CLI::App& app) {
     cmd->add_option("scene", a->scene, "Model file or builtin:NAME")->required();
     cmd->add_option("--camera", a->camera, "Camera path JSON (default for built-in scenes: their own path)");
     cmd->add_option("--out", a->out, "Output directory for ao_NNNN.exr/.png, shaded_NNNN.png, render.json")->required();
-    cmd->add_option("--method", a->method, "probes | alchemy | hbao | gtao")->capture_default_str();
-    cmd->add_option("--cache", a->cache, "Probe cache (.cubeao); needed by --method probes only");
+    cmd->add_option("--method", a->method, "probes | alchemy | hbao | gtao (default: probes with --cache, else gtao)");
+    cmd->add_option("--cache", a->cache, "Probe cache (.cubeao) from cubeao bake; makes probes the default method");
     cmd->add_option("--frames", a->frames, "Half-open frame range A:B (default: all)");
     cmd->add_option("--width", a->width, "Image width (default: the camera file's)");
     cmd->add_option("--height", a->height, "Image height (default: the camera file's)");
@@ -191,7 +198,7 @@ void addRender(CLI::App& app) {
     cmd->add_option("--alpha", a->alpha, "AO strength in the preview: i = i_s((1-a) + a*ao)")->capture_default_str();
     cmd->add_option("--seed", a->seed, "Changes every pixel's jitter");
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
-    cmd->callback([a] { run(*a); });
+    cmd->callback([a] { run(withDefaults(*a)); });
 }
 
 }  // namespace cubeao::cli

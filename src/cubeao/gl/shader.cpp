@@ -5,6 +5,9 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -12,6 +15,8 @@
 #include <regex>
 #include <set>
 #include <sstream>
+
+#include <unistd.h>  // getpid
 
 namespace cubeao::gl {
 
@@ -57,6 +62,73 @@ void checkDefine(const std::pair<std::string, std::string>& define, const std::s
         throw Error(sourceName + ": value of define " + define.first + " spans lines");
 }
 
+// Shared kernel headers (shaders/common/*.h, glsl_cpp.h) hold C++-only code in
+// `#ifdef __cplusplus` / `#if defined(__cplusplus)` blocks and GLSL-only code in `#ifndef __cplusplus`
+// ones. GLSL never defines __cplusplus, so the loader drops the C++ side itself (with its
+// `#include <...>` lines, which it could not resolve) and keeps the other, directives removed.
+// Other conditionals pass through to the GLSL compiler untouched; only their nesting is tracked.
+class CppBlocks {
+public:
+    explicit CppBlocks(std::string file) : file_(std::move(file)) {}
+
+    // Whether `line` (1-based number `number`) goes to the GLSL compiler.
+    bool keep(const std::string& line, std::size_t number) {
+        const std::string word = directive(line);
+        if (word == "if" || word == "ifdef" || word == "ifndef") {
+            const int test = cppTest(line, word);
+            blocks_.push_back({test, test == 0 ? true : test < 0, number});
+            return test == 0 && live();
+        }
+        if (blocks_.empty()) return true;
+        Block& b = blocks_.back();
+        if (word == "else" || word == "elif") {
+            if (b.test == 0) return live();
+            if (word == "elif") throw Error(file_ + ":" + std::to_string(number) + ": #elif after a __cplusplus test");
+            b.keeping = !b.keeping;
+            return false;
+        }
+        if (word == "endif") {
+            const bool pass = b.test == 0;
+            blocks_.pop_back();
+            return pass && live();
+        }
+        return live();
+    }
+
+    void finish(std::size_t lines) const {
+        if (!blocks_.empty())
+            throw Error(file_ + ":" + std::to_string(blocks_.back().line) + ": #if without #endif (file has " +
+                        std::to_string(lines) + " lines)");
+    }
+
+private:
+    struct Block {
+        int test;      // +1: C++ only, −1: GLSL only (#ifndef __cplusplus), 0: any other condition
+        bool keeping;  // whether the current branch of a __cplusplus block is GLSL's
+        std::size_t line;
+    };
+
+    // +1 for `#ifdef __cplusplus` / `#if defined(__cplusplus)`, −1 for `#ifndef __cplusplus` /
+    // `#if !defined(__cplusplus)`, 0 otherwise.
+    static int cppTest(const std::string& line, const std::string& word) {
+        static const std::regex name(R"(^\s*#\s*if(n?)def\s+__cplusplus\s*(//.*)?$)");
+        static const std::regex defined(R"(^\s*#\s*if\s+(!?)\s*defined\s*\(?\s*__cplusplus\s*\)?\s*(//.*)?$)");
+        std::smatch m;
+        if (word != "if" && std::regex_match(line, m, name)) return m[1].length() ? -1 : 1;
+        if (word == "if" && std::regex_match(line, m, defined)) return m[1].length() ? -1 : 1;
+        return 0;
+    }
+
+    bool live() const {
+        for (const Block& b : blocks_)
+            if (!b.keeping) return false;
+        return true;
+    }
+
+    std::string file_;
+    std::vector<Block> blocks_;
+};
+
 // Expands one main source; one instance per preprocessShaderSource call.
 class Preprocessor {
 public:
@@ -81,9 +153,15 @@ public:
     }
 
 private:
-    // Appends the lines of source `id` from index `first` on, includes expanded.
+    // Appends the lines of source `id` from index `first` on, includes expanded and C++-only blocks
+    // dropped (each dropped line becomes an empty one, so line numbers stay true).
     void expand(const std::vector<std::string>& lines, std::size_t first, int id) {
+        CppBlocks cpp(names_[id]);
         for (std::size_t i = first; i < lines.size(); ++i) {
+            if (!cpp.keep(lines[i], i + 1)) {
+                out_ += "\n";
+                continue;
+            }
             const std::string word = directive(lines[i]);
             if (word == "include") {
                 include(lines[i], names_[id] + ":" + std::to_string(i + 1));
@@ -96,6 +174,7 @@ private:
                 out_ += (isPragmaOnce(lines[i]) ? std::string() : lines[i]) + "\n";
             }
         }
+        cpp.finish(lines.size());
     }
 
     // `where` is "file:line" of the #include, for messages.
@@ -148,9 +227,26 @@ std::string infoLog(GLuint object, bool isProgram) {
 std::string sourceTable(const std::vector<std::string>& names) {
     if (names.size() < 2) return {};
     std::string table = "\n(source strings:";
-    for (std::size_t id = 0; id < names.size(); ++id) table += " " + std::to_string(id) + " = " + names[id] + ",";
+    for (std::size_t id = 0; id < names.size(); ++id) {
+        // Appended piece by piece: gcc 12 flags `" " + std::to_string(id)` with a false -Wrestrict.
+        table += ' ';
+        table += std::to_string(id);
+        table += " = ";
+        table += names[id];
+        table += ',';
+    }
     table.back() = ')';
     return table;
+}
+
+// -1: not decided yet (read $CUBEAO_SHADER_WARNINGS at the first use), 0: log, 1: throw.
+std::atomic<int> warningsFatal{-1};
+
+// A non-empty info log from a successful compile or link: what `what` (e.g. "compiling x.comp") said.
+void warning(const std::string& what, const std::string& log) {
+    if (shaderWarningsFatal())
+        throw Error(what + ": warnings are errors here (CUBEAO_SHADER_WARNINGS=error or setShaderWarningsFatal):\n" + log);
+    spdlog::warn("{}:\n{}", what, log);
 }
 
 Shader compileStage(const ShaderStage& stage, const ShaderDefines& defines, const fs::path& includeDir) {
@@ -161,7 +257,19 @@ Shader compileStage(const ShaderStage& stage, const ShaderDefines& defines, cons
         std::snprintf(hex, sizeof hex, "0x%04x", stage.stage);
         throw Error(stage.name + ": glCreateShader failed (stage " + hex + " unknown)");
     }
-    const char* text = pre.text.c_str();
+    // Mesa skips compiling a source its shader cache has seen before, and then has no log to give:
+    // a warning shows once per cache, and never again (issue 11: the demo's "`q' used uninitialized"
+    // came and went with the cache). When warnings matter, a comment that differs on every compile
+    // makes the front end run each time; the back end's cache is keyed on the compiled IR, so it
+    // still hits (measured on llvmpipe, a one-probe `bake --device gpu` with warm caches: 1.15 s with
+    // the comment, 1.23 s without; with no cache at all, 8 s).
+    std::string source = pre.text;
+    if (shaderWarningsFatal()) {
+        static std::atomic<std::uint64_t> compiles{0};
+        source += "\n// compile " + std::to_string(::getpid()) + "." + std::to_string(compiles++) + "." +
+                  std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()) + "\n";
+    }
+    const char* text = source.c_str();
     glShaderSource(shader.id(), 1, &text, nullptr);
     glCompileShader(shader.id());
     glObjectLabel(GL_SHADER, shader.id(), -1, stage.name.c_str());  // names it in debuggers and GL messages
@@ -170,11 +278,24 @@ Shader compileStage(const ShaderStage& stage, const ShaderDefines& defines, cons
     std::string log = pre.mapLog(infoLog(shader.id(), false));
     while (!log.empty() && log.back() == '\n') log.pop_back();
     if (!ok) throw Error("compiling " + stage.name + " failed:\n" + log + sourceTable(pre.sourceNames));
-    if (!log.empty()) spdlog::warn("compiling {}:\n{}", stage.name, log);  // warnings are usually real bugs
+    if (!log.empty()) warning("compiling " + stage.name, log + sourceTable(pre.sourceNames));
     return shader;
 }
 
 }  // namespace
+
+void setShaderWarningsFatal(bool fatal) { warningsFatal = fatal ? 1 : 0; }
+
+bool shaderWarningsFatal() {
+    int state = warningsFatal.load();
+    if (state < 0) {
+        const char* env = std::getenv("CUBEAO_SHADER_WARNINGS");
+        int fromEnv = env != nullptr && std::strcmp(env, "error") == 0 ? 1 : 0;
+        // The first caller decides, unless setShaderWarningsFatal got there first.
+        state = warningsFatal.compare_exchange_strong(state, fromEnv) ? fromEnv : warningsFatal.load();
+    }
+    return state == 1;
+}
 
 std::string PreprocessedShader::mapLog(const std::string& infoLog) const {
     // The source id is the first number on a line, followed by ':' or '(' and the line number.
@@ -235,6 +356,9 @@ Program buildProgram(const std::vector<ShaderStage>& stages, const ShaderDefines
         while (!log.empty() && log.back() == '\n') log.pop_back();
         throw Error("linking " + names + " failed:\n" + log);
     }
+    std::string log = infoLog(program.id(), true);
+    while (!log.empty() && log.back() == '\n') log.pop_back();
+    if (!log.empty()) warning("linking " + names, log);
     glObjectLabel(GL_PROGRAM, program.id(), -1, names.c_str());
     return program;
 }

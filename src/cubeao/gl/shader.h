@@ -55,8 +55,17 @@ struct ShaderStage {
 // when the file cannot be read.
 ShaderStage loadShaderStage(GLenum stage, const std::filesystem::path& file);
 
+// Compiler and linker warnings: logged (spdlog::warn) by default, fatal when asked. A GLSL warning is
+// usually a real bug (a variable read before it is written, a lost precision), so the tests make them
+// fatal (tests/test_main.cpp), for their own programs and, through the environment, for the cubeao
+// binary they run. Fatal when $CUBEAO_SHADER_WARNINGS is "error" (read at the first build) or after
+// setShaderWarningsFatal(true), which overrides the variable.
+void setShaderWarningsFatal(bool fatal);
+bool shaderWarningsFatal();
+
 // Preprocesses, compiles and links the stages (needs a current context). includeDir empty =
-// shaderDir()/"common". Throws cubeao::Error with the info log, source ids mapped to file names.
+// shaderDir()/"common". Throws cubeao::Error with the info log, source ids mapped to file names, on
+// an error, and on a warning when shaderWarningsFatal().
 Program buildProgram(const std::vector<ShaderStage>& stages, const ShaderDefines& defines = {},
                      const std::filesystem::path& includeDir = {});
 
