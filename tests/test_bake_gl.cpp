@@ -111,9 +111,11 @@ TEST_F(GlTest, GBufferMatchesEmbreePrimaryRaysAndBothGpuModesAgree) {
 // The horizon pass on the GPU and the C++ estimators on the very same G-buffer: identical up to
 // float rounding, except where a march point lands within rounding of a texel border and the two
 // pick neighbouring texels (rare, bounded by the per-texel difference allowed below).
-void expectHorizonTwin(Estimator e) {
+// Returns the GPU pass's (AO, confidence) per texel.
+std::vector<glm::vec2> expectHorizonTwin(Estimator e, Falloff falloff = Falloff::None) {
     const Scene& scene = boxRoom();
-    const BakeSettings s = bakeSettings(e, 32, 1.0f, 32);
+    BakeSettings s = bakeSettings(e, 32, 1.0f, 32);
+    s.ao.falloff = falloff;
     GpuBaker baker(scene, s);
     const CubeGBuffer g = renderGBufferCpu(EmbreeScene(scene), kBoxProbe, s.res);
     std::uint64_t gpuFetches = 0, cpuFetches = 0;
@@ -140,6 +142,7 @@ void expectHorizonTwin(Estimator e) {
     EXPECT_LE(far, surface / 100) << estimatorName(e) << ": texels differing by more than 1e-3";
     // The same decisions make the same lookups, up to the rare border flips above.
     EXPECT_NEAR(double(gpuFetches), double(cpuFetches), 0.01 * double(cpuFetches)) << estimatorName(e);
+    return gpu;
 }
 
 TEST_F(GlTest, HorizonSplitPassMatchesTheCppTwin) { expectHorizonTwin(Estimator::HorizonSplit); }
@@ -236,37 +239,19 @@ BakeSettings withFalloff(BakeSettings s, Falloff f) {
 }
 
 TEST_F(GlTest, SmoothFalloffHorizonPassesMatchTheCppTwinAndOccludeLess) {
-    const Scene& scene = boxRoom();
-    const CubeGBuffer g = renderGBufferCpu(EmbreeScene(scene), kBoxProbe, 32);
+    const CubeGBuffer g = renderGBufferCpu(EmbreeScene(boxRoom()), kBoxProbe, 32);  // expectHorizonTwin's
     for (Estimator e : {Estimator::HorizonSplit, Estimator::Gtao}) {
         SCOPED_TRACE(estimatorName(e));
-        const BakeSettings none = bakeSettings(e, 32, 1.0f, 32), smooth = withFalloff(none, Falloff::Smooth);
-        GpuBaker noneBaker(scene, none), smoothBaker(scene, smooth);
-        const std::vector<glm::vec2> gpuNone = noneBaker.horizonOn(g, 3), gpu = smoothBaker.horizonOn(g, 3);
-        double sumAo = 0.0, gain = 0.0;
-        std::size_t far = 0, surface = 0;
-        for (int f = 0; f < cube::kFaces; ++f)
-            for (int j = 0; j < smooth.res; ++j)
-                for (int i = 0; i < smooth.res; ++i) {
-                    const std::size_t t = cube::texelIndex(f, i, j, smooth.res);
-                    if (CubeGBuffer::empty(g.texels[t])) continue;
-                    const glm::vec3 p = g.surfacePoint(f, i, j), n(g.texels[t]);
-                    const std::uint32_t key = texelKey(f, i, j, smooth.res, 3, smooth.ao.seed);
-                    const HorizonEstimate cpu =
-                        e == Estimator::Gtao ? gtaoAo(g, p, n, smooth, key) : horizonSplitAo(g, p, n, smooth, key);
-                    // The falloff-none twin's tolerances (expectHorizonTwin).
-                    const float d = std::fabs(cpu.ao - gpu[t].x);
-                    sumAo += d;
-                    far += d > 1e-3f ? 1 : 0;
-                    ++surface;
-                    EXPECT_LE(d, 0.1f) << "texel " << f << "/" << i << "," << j;
-                    EXPECT_NEAR(cpu.confidence, gpu[t].y, 0.02f) << "texel " << f << "/" << i << "," << j;
-                    EXPECT_GE(gpu[t].x, gpuNone[t].x - 1e-5f) << "texel " << f << "/" << i << "," << j;
-                    gain += double(gpu[t].x - gpuNone[t].x);
-                }
+        const std::vector<glm::vec2> gpuNone = expectHorizonTwin(e), gpu = expectHorizonTwin(e, Falloff::Smooth);
+        double gain = 0.0;
+        std::size_t surface = 0;
+        for (std::size_t t = 0; t < g.texels.size(); ++t) {
+            if (CubeGBuffer::empty(g.texels[t])) continue;
+            EXPECT_GE(gpu[t].x, gpuNone[t].x - 1e-5f) << "texel " << t;
+            gain += double(gpu[t].x - gpuNone[t].x);
+            ++surface;
+        }
         ASSERT_GT(surface, 0u);
-        EXPECT_LT(sumAo / double(surface), 1e-3);
-        EXPECT_LE(far, surface / 100) << "texels differing by more than 1e-3";
         std::printf("[ info ] %s, smooth − none: mean AO gain %.4f\n", estimatorName(e), gain / double(surface));
         // Measured on llvmpipe: hsplit +0.077, gtao +0.066 (more than traced's +0.048 below: a horizon
         // rise is weighted at the distance of the point that raised it, the farthest of the rays it
