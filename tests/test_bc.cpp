@@ -22,7 +22,7 @@
 
 #include "cubeao/bake/bake.h"
 #include "cubeao/bake/bake_settings.h"
-#include "cubeao/bake/cube.h"
+#include "cubeao/core/cube.h"
 #include "cubeao/bake/gpu_bc5.h"
 #include "cubeao/cache/bc4.h"
 #include "cubeao/gl/handles.h"

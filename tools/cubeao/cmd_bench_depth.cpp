@@ -14,7 +14,7 @@
 
 #include "commands.h"
 #include "cubeao/bake/bake.h"
-#include "cubeao/bake/cube.h"
+#include "cubeao/core/cube.h"
 #include "cubeao/bake/probe_set.h"
 #include "cubeao/cache/depth_cube.h"
 #include "cubeao/core/error.h"

@@ -1,5 +1,6 @@
 #include "cubeao/bake/gpu_bc5.h"
 
+#include "common/bake_layout.h"
 #include "cubeao/cache/bc4.h"
 #include "cubeao/gl/shader.h"
 
@@ -7,11 +8,11 @@ namespace cubeao {
 
 namespace {
 
-// Binding points of shaders/bake/bc5_encode.comp: the input is where ao_horizon.comp writes.
-constexpr GLuint kAoConfidenceBinding = 1, kBlocksBinding = 3, kPartialBinding = 8, kGBufferUnit = 0;
-constexpr GLuint kGroupSize = 8;  // local_size_x and local_size_y
+// Binding points and group size of bc5_encode.comp and bc5_error.comp (common/bake_layout.h): the
+// input is where ao_horizon.comp writes.
+using kernel::kBakeAoBuffer, kernel::kBakeBlocksBuffer, kernel::kBakeErrorTilesBuffer, kernel::kBakeGBufferUnit;
 
-GLuint groups(int n) { return (GLuint(n) + kGroupSize - 1) / kGroupSize; }
+GLuint groups(int n) { return kernel::bakeGroups(std::size_t(n), kernel::kBakeTileSize); }
 
 }  // namespace
 
@@ -32,8 +33,8 @@ GpuBc5Encoder::GpuBc5Encoder(int res)
 void GpuBc5Encoder::encode(GLuint aoConfidenceBuffer) {
     const int blocksPerSide = res_ / bc::kBlockSize;
     glUseProgram(program_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAoConfidenceBinding, aoConfidenceBuffer);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBlocksBinding, blocks_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeAoBuffer, aoConfidenceBuffer);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeBlocksBuffer, blocks_.id());
     glDispatchCompute(groups(2 * blocksPerSide), groups(blocksPerSide), 6);  // x: 2·bx + channel
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
 }
@@ -41,10 +42,10 @@ void GpuBc5Encoder::encode(GLuint aoConfidenceBuffer) {
 GpuBc5Encoder::AoError GpuBc5Encoder::aoError(GLuint aoConfidenceBuffer, GLuint gbufferTexture) const {
     const GLuint tiles = groups(res_ / bc::kBlockSize);
     glUseProgram(errorProgram_.id());
-    glBindTextureUnit(kGBufferUnit, gbufferTexture);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAoConfidenceBinding, aoConfidenceBuffer);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBlocksBinding, blocks_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPartialBinding, partial_.id());
+    glBindTextureUnit(kBakeGBufferUnit, gbufferTexture);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeAoBuffer, aoConfidenceBuffer);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeBlocksBuffer, blocks_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeErrorTilesBuffer, partial_.id());
     glDispatchCompute(tiles, tiles, 6);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<float> partial(std::size_t(6) * tiles * tiles * 2);

@@ -4,17 +4,16 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/bake_layout.h"
 #include "cubeao/gl/shader.h"
 
 namespace cubeao {
 namespace {
 
-// Binding points of shaders/bake/depth_encode.comp.
-constexpr GLuint kGBufferUnit = 0, kCoarseBinding = 5, kMaxBinding = 6, kPackedBinding = 7;
-constexpr GLuint kTileSize = 8;    // PASS 0 local size (x and y)
-constexpr GLuint kPackGroup = 64;  // PASS 1 local size
-
-GLuint groups(std::size_t n, GLuint size) { return GLuint((n + size - 1) / size); }
+// Binding points and group sizes of shaders/bake/depth_encode.comp (common/bake_layout.h): PASS 0
+// runs kBakeTileSize² per group, PASS 1 kBakeListGroupSize.
+using kernel::kBakeGBufferUnit, kernel::kBakeCoarseBuffer, kernel::kBakeMaxDistanceBuffer, kernel::kBakeDepthWordsBuffer;
+using kernel::bakeGroups, kernel::kBakeTileSize, kernel::kBakeListGroupSize;
 
 int checked(int res, int depthRes, DepthFormat format) {
     if (res < 1 || depthRes < 1 || depthRes > res || depthBytesPerTexel(format) == 0)
@@ -49,16 +48,16 @@ GpuDepthEncoder::GpuDepthEncoder(int res, int depthRes, DepthFormat format)
 void GpuDepthEncoder::encode(GLuint gbufferTexture) {
     const std::uint32_t zero = 0;
     glNamedBufferSubData(maxBits_.id(), 0, sizeof zero, &zero);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoarseBinding, coarse_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMaxBinding, maxBits_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPackedBinding, packed_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeCoarseBuffer, coarse_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeMaxDistanceBuffer, maxBits_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeDepthWordsBuffer, packed_.id());
     glUseProgram(downsample_.id());
-    glBindTextureUnit(kGBufferUnit, gbufferTexture);
-    glDispatchCompute(groups(std::size_t(depthRes_), kTileSize), groups(std::size_t(depthRes_), kTileSize), 6);
+    glBindTextureUnit(kBakeGBufferUnit, gbufferTexture);
+    glDispatchCompute(bakeGroups(std::size_t(depthRes_), kBakeTileSize), bakeGroups(std::size_t(depthRes_), kBakeTileSize), 6);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glUseProgram(pack_.id());
     const std::size_t words = bytes_ / 4;
-    glDispatchCompute(groups(words, kPackGroup), 1, 1);
+    glDispatchCompute(bakeGroups(words, kBakeListGroupSize), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 

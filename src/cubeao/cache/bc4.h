@@ -1,6 +1,7 @@
 // BC4 / BC5 (RGTC1 / RGTC2, unsigned) blocks for probe caches: AO in red, confidence in green,
 // 1 byte per texel. CPU reference encoder and the decoder; the GPU encoder that a bake uses is
-// shaders/bake/bc5_encode.comp (driver: src/cubeao/bake/gpu_bc5.h), which produces the same bytes.
+// shaders/bake/bc5_encode.comp (driver: src/cubeao/bake/gpu_bc5.h), which produces the same bytes:
+// both compile the block encoder of shaders/common/bc4.h ("common/bc4.h").
 //
 // Format: EXT_texture_compression_rgtc, "RGTC Compressed Texture Image Formats" (= OpenGL 4.5 core,
 // appendix C.1). A BC4 block is 64 bits, little-endian: bits 0-7 red_0, bits 8-15 red_1, then 16
@@ -22,9 +23,11 @@
 
 #include <glm/vec2.hpp>
 
+#include "common/bc4.h"
+
 namespace cubeao::bc {
 
-constexpr int kBlockSize = 4;        // texels per block side
+constexpr int kBlockSize = kernel::kBc4BlockSize;  // texels per block side: 4
 constexpr std::size_t kBc4Bytes = 8;
 constexpr std::size_t kBc5Bytes = 16;
 constexpr int kMaxRes = 1 << 16;     // larger faces are rejected (keeps every size far from overflow)
@@ -32,7 +35,7 @@ constexpr int kMaxRes = 1 << 16;     // larger faces are rejected (keeps every s
 // The block that minimises, over the candidates tried, the squared error of the decoded block
 // against values[] (16 texels, row-major: values[4y + x]). Values are clamped to [0, 1] (NaN
 // counts as 0). Tries both modes; endpoints start from the block's range, are refined by least
-// squares on the current codes and then by a descent over ±1 steps (details in bc4.cpp).
+// squares on the current codes and then by a descent over ±1 steps (details in common/bc4.h).
 // Deterministic, and integer-exact after quantising inputs to 1/8925: bc5_encode.comp returns
 // identical blocks.
 std::uint64_t encodeBc4Block(const float values[16]);

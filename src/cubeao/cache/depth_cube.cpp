@@ -1,3 +1,9 @@
+// The distance cube's CPU side (depth_cube.h). The Min filter, the half conversion and the texel
+// encoding are common/depth_encode.h's (shaders/common/depth_encode.h), the code that
+// shaders/bake/depth_encode.comp compiles too. C++ only: the Nearest filter, decoding and the byte
+// layout, which the GPU bake does not need (it bakes kFilter = Min, and a run time decodes in the
+// texture unit); the GPU's largest-distance reduction is an atomicMax on the bits, the same value as
+// maxDistance below because non-negative floats order like their bits.
 #include "cubeao/cache/depth_cube.h"
 
 #include <algorithm>
@@ -6,7 +12,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/depth_encode.h"
+
 namespace cubeao::depth {
+
+static_assert(int(DepthFormat::R16Unorm) == kernel::kDepthR16Unorm && int(DepthFormat::R16Float) == kernel::kDepthR16Float &&
+              int(DepthFormat::R32Float) == kernel::kDepthR32Float);
+
 namespace {
 
 constexpr int kFaces = 6;
@@ -20,34 +32,28 @@ void checkSizes(std::size_t fine, int res, int depthRes) {
                                     std::to_string(res) + " needs 6·res²");
 }
 
-// distanceAt(fine texel index) → distance; the layout arithmetic of downsample in one place.
-template <class DistanceAt>
-std::vector<float> downsampleWith(DistanceAt distanceAt, int res, int depthRes, Filter filter) {
+float nonNegative(float d) { return d > 0.0f ? d : 0.0f; }  // NaN and negatives: empty
+
+// Coarse texels in cubeTexelIndex order. kFromGbuffer: the fetch's flag as a constant (depth_encode.h).
+template <bool kFromGbuffer>
+std::vector<float> downsampleWith(const float* distances, const glm::vec4* gbuffer, int res, int depthRes, Filter filter) {
+    const kernel::DepthDownsampleParams p{res, depthRes, distances, gbuffer, kFromGbuffer};
     std::vector<float> out(std::size_t(kFaces) * std::size_t(depthRes) * std::size_t(depthRes), 0.0f);
-    const auto lo = [res, depthRes](int c) { return int(std::int64_t(c) * res / depthRes); };
-    const auto centre = [res, depthRes](int c) { return int((2 * std::int64_t(c) + 1) * res / (2 * depthRes)); };
     std::size_t o = 0;
+    if (filter == Filter::Min) {
+        for (int f = 0; f < kFaces; ++f)
+            for (int J = 0; J < depthRes; ++J)
+                for (int I = 0; I < depthRes; ++I, ++o) out[o] = kernel::depthCoarseMin(p, glm::ivec3(I, J, f));
+        return out;
+    }
+    // Filter::Nearest: C++ only, for `bench depth`'s comparison (the bake uses kFilter = Min).
+    const auto centre = [res, depthRes](int c) { return int((2 * std::int64_t(c) + 1) * res / (2 * depthRes)); };
     for (int f = 0; f < kFaces; ++f)
         for (int J = 0; J < depthRes; ++J)
-            for (int I = 0; I < depthRes; ++I, ++o) {
-                const auto fine = [&](int i, int j) {
-                    return distanceAt((std::size_t(f) * std::size_t(res) + std::size_t(j)) * std::size_t(res) +
-                                      std::size_t(i));
-                };
-                if (filter == Filter::Nearest) {
-                    out[o] = fine(centre(I), centre(J));
-                    continue;
-                }
-                float m = 0.0f;
-                for (int j = lo(J); j < lo(J + 1); ++j)
-                    for (int i = lo(I); i < lo(I + 1); ++i)
-                        if (const float d = fine(i, j); d > 0.0f && (m == 0.0f || d < m)) m = d;
-                out[o] = m;
-            }
+            for (int I = 0; I < depthRes; ++I, ++o)
+                out[o] = nonNegative(kernel::depthFineDistance(p, glm::ivec3(centre(I), centre(J), f)));
     return out;
 }
-
-float nonNegative(float d) { return d > 0.0f ? d : 0.0f; }  // NaN and negatives: empty
 
 }  // namespace
 
@@ -57,12 +63,12 @@ int depthResFor(int res) { return std::max(1, res / kResDivisor); }
 
 std::vector<float> downsample(std::span<const float> distances, int res, int depthRes, Filter filter) {
     checkSizes(distances.size(), res, depthRes);
-    return downsampleWith([&](std::size_t t) { return nonNegative(distances[t]); }, res, depthRes, filter);
+    return downsampleWith<false>(distances.data(), nullptr, res, depthRes, filter);
 }
 
 std::vector<float> downsample(std::span<const glm::vec4> gbuffer, int res, int depthRes, Filter filter) {
     checkSizes(gbuffer.size(), res, depthRes);
-    return downsampleWith([&](std::size_t t) { return nonNegative(gbuffer[t].w); }, res, depthRes, filter);
+    return downsampleWith<true>(nullptr, gbuffer.data(), res, depthRes, filter);
 }
 
 float maxDistance(std::span<const float> coarse) {
@@ -71,19 +77,7 @@ float maxDistance(std::span<const float> coarse) {
     return m;
 }
 
-// Rounding as in F. Giesen's float_to_half_fast3_rtne, with the subnormal range done as an exact
-// power-of-two scale and roundEven instead of a float addition, so GLSL can repeat it bit for bit.
-std::uint16_t floatToHalf(float f) {
-    std::uint32_t u = std::bit_cast<std::uint32_t>(f);
-    const std::uint32_t sign = (u >> 16) & 0x8000u;
-    u &= 0x7FFFFFFFu;
-    if (u > 0x7F800000u) return std::uint16_t(sign | 0x7E00u);              // NaN
-    if (u >= 0x47800000u) return std::uint16_t(sign | 0x7C00u);             // ≥ 65536: inf
-    if (u < 0x38800000u)                                                     // < 2^-14: subnormal half
-        return std::uint16_t(sign | std::uint32_t(std::nearbyint(std::bit_cast<float>(u) * 16777216.0f)));
-    const std::uint32_t odd = (u >> 13) & 1u;
-    return std::uint16_t(sign | ((u + 0xC8000FFFu + odd) >> 13));  // rebias 127 → 15, round to even
-}
+std::uint16_t floatToHalf(float f) { return std::uint16_t(kernel::depthFloatToHalf(f)); }
 
 float halfToFloat(std::uint16_t h) {
     const std::uint32_t sign = std::uint32_t(h & 0x8000u) << 16, exponent = (h >> 10) & 0x1Fu, mantissa = h & 0x3FFu;
@@ -95,20 +89,7 @@ float halfToFloat(std::uint16_t h) {
 }
 
 std::uint32_t encodeTexel(float distance, DepthFormat format, float maxDistance) {
-    const float d = nonNegative(distance);
-    switch (format) {
-        case DepthFormat::R16Unorm: {
-            if (d == 0.0f || !(maxDistance > 0.0f)) return 0;
-            const float v = std::nearbyint(std::min(d / maxDistance, 1.0f) * 65535.0f);
-            return std::uint32_t(std::max(v, 1.0f));
-        }
-        case DepthFormat::R16Float: {
-            if (d == 0.0f) return 0;
-            return std::clamp<std::uint32_t>(floatToHalf(d), 1u, 0x7BFFu);  // > 0, finite
-        }
-        case DepthFormat::R32Float: return std::bit_cast<std::uint32_t>(d);
-    }
-    return 0;
+    return kernel::depthEncodeTexel(distance, int(format), maxDistance);
 }
 
 float decodeTexel(std::uint32_t stored, DepthFormat format, float maxDistance) {

@@ -2,7 +2,8 @@
 // depthRes and quantised to a DepthFormat (docs/FORMAT.md "Distance cube"), and the run-time depth
 // test that reads it ("is this surface point visible from the probe?"). CPU reference here; the GPU
 // bake's twin is shaders/bake/depth_encode.comp (driver: src/cubeao/bake/gpu_depth.h), which
-// produces the same bytes (tests/test_bake_cache.cpp).
+// produces the same bytes (tests/test_depth_cube.cpp, tests/test_bake_cache.cpp): both compile the
+// Min filter, floatToHalf and encodeTexel of shaders/common/depth_encode.h.
 //
 // Choice of depthRes, format and filter, measured with `cubeao bench depth` (res 512 bakes, 8 probes
 // along the camera path, every camera-visible point of 8 frames at 160×90 paired with its 4 nearest
@@ -34,6 +35,7 @@
 
 #include <glm/vec4.hpp>
 
+#include "common/depth_test.h"
 #include "cubeao/cache/cache_file.h"
 
 namespace cubeao::depth {
@@ -69,8 +71,8 @@ std::vector<float> downsample(std::span<const glm::vec4> gbuffer, int res, int d
 // The scale an R16Unorm cube needs: the largest value of `coarse` (0 for an all-empty probe).
 float maxDistance(std::span<const float> coarse);
 
-// IEEE half with round-to-nearest-even, integer arithmetic only (depth_encode.comp does the same
-// steps, so the bytes agree exactly): NaN → 0x7E00, ±inf and |f| ≥ 65520 → ±inf.
+// IEEE half with round-to-nearest-even, integer arithmetic only (common/depth_encode.h, which
+// depth_encode.comp compiles too, so the bytes agree exactly): NaN → 0x7E00, ±inf and |f| ≥ 65520 → ±inf.
 std::uint16_t floatToHalf(float f);
 float halfToFloat(std::uint16_t h);
 
@@ -98,7 +100,7 @@ struct DepthTest {
     float slope = kDepthSlope;          // slope term = slope · w · min(tan θ, kMaxTan)
     bool facing = kDepthFacing;         // a point whose seen side faces away from the probe is hidden
 };
-constexpr float kMaxTan = 8.0f;  // θ ≈ 83°: beyond, the bias would accept everything behind the surface
+constexpr float kMaxTan = kernel::kMaxTan;  // θ ≈ 83°: beyond, the bias would accept everything behind the surface
 
 // `stored`: the decoded texel in the point's direction; `distance`: from the probe to the point;
 // `cosine`: cos θ between the point's normal, turned to the side the camera sees, and the direction
@@ -106,9 +108,7 @@ constexpr float kMaxTan = 8.0f;  // θ ≈ 83°: beyond, the bias would accept e
 inline bool visible(const DepthTest& t, float stored, float distance, float cosine, int depthRes) {
     if (t.facing && !(cosine > 0.0f)) return false;
     if (!(stored > 0.0f)) return true;
-    const float c = std::min(std::abs(cosine), 1.0f);
-    const float tanTheta = c * kMaxTan > std::sqrt(1.0f - c * c) ? std::sqrt(1.0f - c * c) / c : kMaxTan;
-    return distance <= stored * (1.0f + t.tolerance + t.slope * (2.0f / float(depthRes)) * tanTheta);
+    return kernel::depthWithinBias(stored, distance, cosine, t.tolerance, t.slope, depthRes);
 }
 
 }  // namespace cubeao::depth
