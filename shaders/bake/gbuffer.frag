@@ -2,7 +2,9 @@
 // Cube G-buffer, fragment stage: the triangle's geometric normal (from a per-triangle table, exact
 // like Embree's Ng, not interpolated) turned to face the probe, and the distance from the probe to
 // the surface point at the texel centre (perspective-correct interpolation of the world position).
-layout(std430, binding = 0) readonly buffer TriangleNormals { vec4 triangleNormal[]; };
+#include "bake_layout.h"
+
+layout(std430, binding = kBakeTriangleNormalsBuffer) readonly buffer TriangleNormals { vec4 triangleNormal[]; };
 uniform vec3 probe;
 in vec3 fWorld;
 layout(location = 0) out vec4 gbuffer;  // (normal, distance)

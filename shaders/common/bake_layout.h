@@ -25,6 +25,7 @@ CUBEAO_CONST int kBakeListGroupSize = 64;
 CUBEAO_CONST int kBakeGBufferUnit = 0;  // the probe's cube G-buffer: sampler2DArray of (normal, distance), 6 layers
 
 // Shader storage buffer bindings.
+CUBEAO_CONST int kBakeTriangleNormalsBuffer = 0;  // gbuffer.frag: world-space vec4 normal per triangle (gl/gpu_mesh.h)
 CUBEAO_CONST int kBakeAoBuffer = 1;           // vec2 (ao, confidence) per texel, cubeTexelIndex order
 CUBEAO_CONST int kBakeTexelListBuffer = 2;    // TexelListHeader, then uint texel indices (hybrid)
 CUBEAO_CONST int kBakeBlocksBuffer = 3;       // uvec4 per BC5 block: red (xy), green (zw)

@@ -98,9 +98,7 @@ CUBEAO_FN float horizonStepDistance(int step, int steps, float jitter, float rad
 }
 
 // Rotation of the azimuths (x) and offset of the march steps (y) for a texel key, both in [0, 1).
-CUBEAO_FN vec2 horizonJitter(uint key) {
-    return vec2(toUnitFloat(hash32(key)), toUnitFloat(hash32(key ^ 0x68e31da4u)));
-}
+CUBEAO_FN vec2 horizonJitter(uint key) { return marchJitter(key); }
 
 // A slice's running horizon: sin² h, tan h and the falloff-weighted sum of its rises.
 struct HorizonState {

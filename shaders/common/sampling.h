@@ -33,6 +33,12 @@ CUBEAO_FN float toUnitFloat(uint bits) { return float(bits >> 8) * (1.0f / 16777
 
 CUBEAO_FN float radicalInverse2(uint i) { return toUnitFloat(bitfieldReverse(i)); }
 
+// Two independent values in [0, 1) for a pixel or texel key: the rotation of a march's azimuths (x)
+// and the offset of its steps (y), for the bake's horizon estimators and the screen-space baselines.
+CUBEAO_FN vec2 marchJitter(uint key) {
+    return vec2(toUnitFloat(hash32(key)), toUnitFloat(hash32(key ^ 0x68e31da4u)));
+}
+
 // Point i of the n-point Hammersley set, shifted on the unit torus by the key's hash.
 CUBEAO_FN vec2 rotatedHammersley(uint i, uint n, uint key) {
     vec2 shift = vec2(toUnitFloat(hash32(key)), toUnitFloat(hash32(key ^ 0x9e3779b9u)));

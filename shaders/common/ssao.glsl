@@ -66,7 +66,7 @@ void main() {
             float radiusPixels = radius * focalPixels() / z;
             if (maxRadiusPixels > 0.0) radiusPixels = min(radiusPixels, maxRadiusPixels);
             uint key = hashKey(uint(ssaoPixel.x), uint(ssaoPixel.y), frameKey);
-            vec2 jitter = vec2(toUnitFloat(hash32(key)), toUnitFloat(hash32(key ^ 0x68e31da4u)));
+            vec2 jitter = marchJitter(key);
             // Under a pixel the march finds only the pixel itself: nothing to resolve.
             if (radiusPixels >= 1.0) ao = clamp(estimateAo(p, n, radiusPixels, jitter, fetches), 0.0, 1.0);
         }

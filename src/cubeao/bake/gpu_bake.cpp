@@ -125,7 +125,7 @@ void GpuBaker::Impl::renderGBuffer(const glm::vec3& probe, int res) {
     glDisable(GL_CULL_FACE);  // architecture is open and two-sided
     glViewport(0, 0, res, res);
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
-    mesh->bind(0);
+    mesh->bind(kernel::kBakeTriangleNormalsBuffer);
     const auto draw = [&] { mesh->draw(); };
 
     if (mode == GBufferMode::Layered) {
