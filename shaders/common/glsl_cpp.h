@@ -15,8 +15,10 @@
 // - No swizzles beyond .x .y .z .w (GLM's need GLM_FORCE_SWIZZLE), no GLSL array constructors.
 // - C++-only code goes in `#ifdef __cplusplus ... #endif` (the shader loader drops it, includes and
 //   all; `#ifndef __cplusplus` keeps GLSL-only code from C++). Resources (samplers, images, buffers)
-//   are declared by the shaders, never here: a kernel reads its inputs through a function the
-//   includer provides (see horizon.h) or through arguments.
+//   are declared by the shaders, never here. A kernel reads its inputs through arguments, or through
+//   functions the shader defines and C++ supplies otherwise: a C++-only member of the kernel's
+//   params struct (horizon.h, depth_encode.h: one array), or a reader object that a C++ template
+//   takes (projection.h: several textures per probe).
 #pragma once
 
 #ifdef __cplusplus
