@@ -299,6 +299,19 @@ TEST(BakeCacheWriter, WritesBatchesAsPartsAndResumes) {
     EXPECT_EQ(fileBytes(path), fileBytes(dir / "one.cubeao"));
 }
 
+// Part numbers pass six digits after a million batches; a resumed bake still adopts those parts.
+TEST(BakeCacheWriter, AdoptsPartsNumberedPastSixDigits) {
+    TempDir dir("bakecache");
+    const fs::path path = dir / "a.cubeao";
+    const CacheParams p = smallParams();
+    const auto probes = probeSet(3);
+    writeCache(BakeCacheWriter::partPath(path, 1000000), p, std::vector<ProbeRecord>{record(p, probes, 1)});
+    BakeCacheWriter w(path, p, probes, {2, 1e9});
+    EXPECT_EQ(w.probesAtStart(), 1u);
+    EXPECT_TRUE(w.has(1));
+    EXPECT_FALSE(w.has(0));
+}
+
 // The point of the parts: a batch writes the batch, not every probe baked before it.
 TEST(BakeCacheWriter, ABatchCostsInProportionToTheBatch) {
     TempDir dir("bakecache");

@@ -201,8 +201,8 @@ TEST(CpuBakeGBuffer, EmptyTexelsAreOpenAndCountsAddUp) {
         if (e == Estimator::Hybrid) {
             EXPECT_EQ(b.tracedTexels, 0u);  // an open plane is fully confident
         }
-        EXPECT_GE(b.timings.gbufferMs, 0.0);
-        EXPECT_GE(b.timings.aoMs, 0.0);
+        EXPECT_GT(b.timings.gbufferMs, 0.0) << "the CPU path always times its stages";
+        EXPECT_GT(b.timings.aoMs, 0.0);
     }
 }
 

@@ -97,8 +97,6 @@ CUBEAO_FN float horizonStepDistance(int step, int steps, float jitter, float rad
     return radius * (float(step) + jitter) / float(steps);
 }
 
-// Rotation of the azimuths (x) and offset of the march steps (y) for a texel key, both in [0, 1).
-CUBEAO_FN vec2 horizonJitter(uint key) { return marchJitter(key); }
 
 // A slice's running horizon: sin² h, tan h and the falloff-weighted sum of its rises.
 struct HorizonState {
@@ -132,7 +130,7 @@ CUBEAO_FN int horizonSeen(HorizonParams hp, vec3 p, vec3 n, vec3 dir, float cosW
 // Horizon-split AO, Oswald ch. 4 eq. 4.3, over the height field found above each march point
 // (src/cubeao/bake/horizon.h): returns (ao, confidence); fetches counts the G-buffer lookups.
 CUBEAO_FN vec2 horizonSplitAo(HorizonParams hp, vec3 p, vec3 n, uint key, CUBEAO_INOUT(uint) fetches) {
-    vec2 jitter = horizonJitter(key);
+    vec2 jitter = marchJitter(key);
     vec3 t1;
     vec3 t2;
     orthonormalBasis(n, t1, t2);
@@ -177,7 +175,7 @@ CUBEAO_FN vec2 horizonSplitAo(HorizonParams hp, vec3 p, vec3 n, uint key, CUBEAO
 // slice. Returns (ao, confidence); fetches counts the G-buffer lookups.
 CUBEAO_FN vec2 gtaoAo(HorizonParams hp, vec3 p, vec3 n, uint key, CUBEAO_INOUT(uint) fetches) {
     fetches += uint(hp.directions * hp.steps);
-    vec2 jitter = horizonJitter(key);
+    vec2 jitter = marchJitter(key);
     vec3 view = normalize(hp.probe - p);
     vec3 a1;
     vec3 a2;

@@ -99,7 +99,10 @@ void BakeCacheWriter::adoptParts(std::span<const ProbeSpec> probes, const std::s
     std::error_code ec;
     for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
         const std::string name = e.path().filename().string();
-        if (name.size() != prefix.size() + 6 || name.compare(0, prefix.size(), prefix) != 0) continue;
+        // partPath writes at least 6 digits (%06zu): part 1,000,000 on has more; past 18, not ours
+        // (and std::stoul would overflow).
+        const std::size_t digitCount = name.size() - std::min(name.size(), prefix.size());
+        if (digitCount < 6 || digitCount > 18 || name.compare(0, prefix.size(), prefix) != 0) continue;
         const std::string digits = name.substr(prefix.size());
         if (digits.find_first_not_of("0123456789") != std::string::npos) continue;
         found.emplace_back(std::stoul(digits), path_.has_parent_path() ? e.path() : fs::path(name));

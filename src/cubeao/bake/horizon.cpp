@@ -13,11 +13,6 @@ kernel::HorizonParams params(const CubeGBuffer& g, const BakeSettings& s) {
 
 }  // namespace
 
-HorizonJitter horizonJitter(std::uint32_t key) {
-    const glm::vec2 j = kernel::horizonJitter(key);
-    return {j.x, j.y};
-}
-
 HorizonEstimate horizonSplitAo(const CubeGBuffer& g, const glm::vec3& p, const glm::vec3& n, const BakeSettings& s,
                                std::uint32_t key) {
     std::uint32_t fetches = 0;

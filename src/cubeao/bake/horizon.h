@@ -54,10 +54,5 @@ HorizonEstimate horizonSplitAo(const CubeGBuffer& g, const glm::vec3& p, const g
 HorizonEstimate gtaoAo(const CubeGBuffer& g, const glm::vec3& p, const glm::vec3& n, const BakeSettings& s,
                        std::uint32_t key);
 
-// Rotation of the azimuths and offset of the march steps for a texel key (both in [0, 1)).
-struct HorizonJitter {
-    float azimuth, step;
-};
-HorizonJitter horizonJitter(std::uint32_t key);
 
 }  // namespace cubeao
