@@ -11,8 +11,8 @@
 CUBEAO_KERNEL_BEGIN
 
 // View-space ray through continuous pixel position `pixel` with z = −1, so a surface at view depth z is
-// at cameraPixelRay(...) · z. Written as PinholeCamera::rayDirection (src/cubeao/core/camera.h)
-// so the two agree to rounding.
+// at cameraPixelRay(...) · z. PinholeCamera::rayDirection (src/cubeao/core/camera.cpp) turns the same
+// ray into the world, so the reference's primary rays and the camera G-buffer's pixels agree.
 CUBEAO_FN vec3 cameraPixelRay(ivec2 frameSize, float tanHalfFovY, vec2 pixel) {
     float aspect = float(frameSize.x) / float(frameSize.y);
     return vec3((2.0f * pixel.x / float(frameSize.x) - 1.0f) * tanHalfFovY * aspect,

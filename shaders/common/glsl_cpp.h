@@ -35,6 +35,8 @@ using uint = std::uint32_t;
 // which is also the only one GLSL has. The using keeps GLM's vector overloads beside it.
 using glm::roundEven;
 inline float roundEven(float x) { return std::nearbyint(x); }
+// A 64-bit count or word that a shader keeps as two 32-bit halves (fetch counters, BC4 blocks).
+inline std::uint64_t joinWords(uint low, uint high) { return std::uint64_t(high) << 32 | low; }
 }  // namespace cubeao::kernel
 
 #define CUBEAO_KERNEL_BEGIN namespace cubeao::kernel {

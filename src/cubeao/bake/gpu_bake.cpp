@@ -60,7 +60,7 @@ struct GpuBaker::Impl {
     std::uint64_t fetches() const {
         kernel::FetchCount count{0u, 0u};
         glGetNamedBufferSubData(fetchCount.id(), 0, sizeof count, &count);
-        return std::uint64_t(count.fetchesHigh) << 32 | count.fetchesLow;
+        return kernel::joinWords(count.fetchesLow, count.fetchesHigh);
     }
 };
 

@@ -28,7 +28,7 @@ std::uint64_t encodeBc4Block(const float values[16]) {
     int q[kernel::kBc4Texels];
     for (int t = 0; t < kernel::kBc4Texels; ++t) q[t] = kernel::bc4Quantise(values[t]);
     const glm::uvec2 words = kernel::bc4EncodeBlock(q);
-    return std::uint64_t(words.x) | std::uint64_t(words.y) << 32;
+    return kernel::joinWords(words.x, words.y);
 }
 
 void decodeBc4Block(std::uint64_t block, float out[16]) {

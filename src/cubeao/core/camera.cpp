@@ -5,6 +5,8 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "common/camera.h"
+
 namespace cubeao {
 
 PinholeCamera::PinholeCamera(const CameraPath& path, std::size_t frame, int w, int h)
@@ -18,10 +20,9 @@ PinholeCamera::PinholeCamera(const CameraPath& path, std::size_t frame, int w, i
 }
 
 glm::vec3 PinholeCamera::rayDirection(int x, int y) const {
-    const float aspect = float(width) / float(height);
-    const float sx = (2.0f * (float(x) + 0.5f) / float(width) - 1.0f) * tanHalfFovY * aspect;
-    const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(height)) * tanHalfFovY;
-    return glm::normalize(forward + sx * right + sy * up);
+    // The view-space ray of the run time's passes (view space looks down −z), turned into the world.
+    const glm::vec3 r = kernel::cameraPixelRay({width, height}, tanHalfFovY, {float(x) + 0.5f, float(y) + 0.5f});
+    return glm::normalize(forward + r.x * right + r.y * up);
 }
 
 }  // namespace cubeao

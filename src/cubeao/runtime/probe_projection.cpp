@@ -167,7 +167,7 @@ kernel::PassCounters readCounters(const gl::Buffer& buffer) {
 double ProbeProjectionPass::fetchesPerPixel() const {
     if (pixels_ == 0.0) return 0.0;
     const kernel::PassCounters c = readCounters(counters_);
-    return double(std::uint64_t(c.fetchesHigh) << 32 | c.fetchesLow) / pixels_;
+    return double(kernel::joinWords(c.fetchesLow, c.fetchesHigh)) / pixels_;
 }
 
 double ProbeProjectionPass::uncoveredFraction() const {

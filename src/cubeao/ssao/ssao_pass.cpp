@@ -53,7 +53,7 @@ double SsaoPass::fetchesPerPixel() const {
     if (pixels_ == 0.0) return 0.0;
     kernel::PassCounters c{};
     glGetNamedBufferSubData(fetchCount_.id(), 0, sizeof c, &c);
-    return double(std::uint64_t(c.fetchesHigh) << 32 | c.fetchesLow) / pixels_;
+    return double(kernel::joinWords(c.fetchesLow, c.fetchesHigh)) / pixels_;
 }
 
 }  // namespace cubeao
