@@ -64,15 +64,18 @@ TEST(Cli, ExitCodes) {
 TEST(Cli, PlaceAlongThePathWritesAProbeSetBakeReads) {
     TempDir dir;
     const fs::path probes = dir.path() / "probes.json";
-    const CliRun r = run("place builtin:box-room --budget 3 --out " + probes.string() + " --json");
+    const CliRun r = run("place builtin:box-room --method path --budget 3 --out " + probes.string() + " --json");
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_EQ(lastLine(r.out)["probes"].get<int>(), 3);
+    EXPECT_GT(lastLine(r.out)["coverage"].get<double>(), 0.0);
     const CliRun b = run("bake builtin:box-room --probes " + probes.string() + " --out " +
                          (dir.path() / "bake.cubeao").string() + " --res 4 --spp 2 --device cpu --json");
     ASSERT_EQ(b.code, 0) << b.out;
     EXPECT_EQ(lastLine(b.out)["probes"].get<int>(), 3);
-    EXPECT_EQ(run("place builtin:box-room --method voting --out " + probes.string()).code, 2);
-    EXPECT_EQ(run("place builtin:box-room --budget 0 --out " + probes.string()).code, 2);
+    EXPECT_EQ(run("place builtin:box-room --method nearest --out " + probes.string()).code, 2);
+    EXPECT_EQ(run("place builtin:box-room --method path --budget 0 --out " + probes.string()).code, 2);
+    EXPECT_EQ(run("place builtin:box-room --coverage-target 1.5 --out " + probes.string()).code, 2);
+    EXPECT_EQ(run("place builtin:box-room --budget -1 --out " + probes.string()).code, 2);
 }
 
 TEST(Cli, BakeCpuWritesProbesAndVerifies) {
@@ -186,7 +189,7 @@ std::map<std::uint32_t, std::vector<std::uint8_t>> probesByIndex(const fs::path&
 TEST(CliCache, BakeWritesACacheThatInfoDescribes) {
     TempDir dir;
     const fs::path probes = dir.path() / "probes.json", cache = dir.path() / "box.cubeao";
-    ASSERT_EQ(run("place builtin:box-room --budget 3 --out " + probes.string()).code, 0);
+    ASSERT_EQ(run("place builtin:box-room --method path --budget 3 --out " + probes.string()).code, 0);
     const CliRun b = run("bake builtin:box-room --probes " + probes.string() + " --out " + cache.string() +
                          " --res 16 --spp 8 --device cpu --timings --json");
     ASSERT_EQ(b.code, 0) << b.out;

@@ -20,7 +20,7 @@ echo "|---|---|---|---|---|---|---|---|"
 for entry in "${scenes[@]}"; do
   IFS='|' read -r scene camera name <<<"$entry"
   [ -f "$scene" ] || { echo "skipping $name: $scene not found" >&2; continue; }
-  "$bin" place "$scene" --camera "$camera" --budget "$nprobes" --out "$out/$name-probes.json" >/dev/null
+  "$bin" place "$scene" --method path --camera "$camera" --budget "$nprobes" --out "$out/$name-probes.json" >/dev/null
   for est in traced hsplit gtao hybrid; do
     "$bin" bake "$scene" --probes "$out/$name-probes.json" --out "$out/$name-$est" --res "$res" --spp 64 \
       --estimator "$est" --verify --verify-spp "$refspp" --json 2>/dev/null | tail -1 >"$out/$name-$est.json"

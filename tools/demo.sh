@@ -1,7 +1,7 @@
 #!/bin/bash
 # README command 1: the main job end to end on a built-in scene (default builtin:cloister).
 # Installs what is missing, builds, then:
-#   info → place probes along the camera path → bake them into probe caches (traced, and
+#   info → place probes (normal voting; covering what the camera path sees when one is given) → bake them into probe caches (traced, and
 #   horizon-split for comparison; GPU path, llvmpipe here) with the Embree twin checking every texel,
 #   and every checksum of each cache checked (info --verify) → render the camera path from the probes
 #   and with the screen-space baselines (gtao, hbao, alchemy) → reference AO of the same path (Embree,
@@ -9,7 +9,8 @@
 # Environment: CUBEAO_DEMO_SCENE (default builtin:cloister), CUBEAO_DEMO_CAMERA (camera path JSON;
 # default: a built-in scene's own), CUBEAO_DEMO_SIZE (image WxH; default: the camera file's),
 # CUBEAO_DEMO_OUT (default out/demo), CUBEAO_DEMO_SPP (reference rays per pixel, default 256),
-# CUBEAO_DEMO_RES (probe face size, 128), CUBEAO_DEMO_PROBES (probe count, 12), CUBEAO_DEMO_BAKE_SPP
+# CUBEAO_DEMO_RES (probe face size, 128), CUBEAO_DEMO_PROBES (most probes, 12), CUBEAO_DEMO_PLACE
+# (placement method: voting, coverage, grid or path; default voting), CUBEAO_DEMO_BAKE_SPP
 # (rays per traced texel, 64), CUBEAO_DEMO_DEVICE (bake on gpu, falling back to cpu; or cpu;
 # CUBEAO_DEMO_DEVICE_TRACED / _HSPLIT choose per estimator), CUBEAO_DEMO_VERIFY (1: check every
 # texel against Embree; 0: skip),
@@ -23,6 +24,7 @@ out=${CUBEAO_DEMO_OUT:-out/demo}
 spp=${CUBEAO_DEMO_SPP:-256}
 res=${CUBEAO_DEMO_RES:-128}
 nprobes=${CUBEAO_DEMO_PROBES:-12}
+place=${CUBEAO_DEMO_PLACE:-voting}
 bake_spp=${CUBEAO_DEMO_BAKE_SPP:-64}
 device=${CUBEAO_DEMO_DEVICE:-gpu}
 verify=${CUBEAO_DEMO_VERIFY:-1}
@@ -44,8 +46,9 @@ mkdir -p "$out"
 echo "== scene"
 "$bin" info "$scene" --json | tee "$out/info.log" | tail -1 >"$out/info.json"
 sed '$d' "$out/info.log"
-echo "== place: $nprobes probes along the camera path"
-"$bin" place "$scene" ${CUBEAO_DEMO_CAMERA:+--camera "$CUBEAO_DEMO_CAMERA"} --budget "$nprobes" --out "$out/probes.json"
+echo "== place: at most $nprobes probes ($place)"
+"$bin" place "$scene" --method "$place" ${CUBEAO_DEMO_CAMERA:+--camera "$CUBEAO_DEMO_CAMERA"} --budget "$nprobes" \
+    --res "$res" --out "$out/probes.json"
 for est in traced hsplit; do
   var=CUBEAO_DEMO_DEVICE_${est^^}
   dev=${!var:-$device}

@@ -9,6 +9,7 @@ packages=(
   libglfw3-dev xvfb xauth                                           # viewer window; tested under Xvfb
   libglm-dev libopenmesh-dev libassimp-dev assimp-testmodels
   libembree-dev libtbb-dev
+  libcgal-dev                          # placement: exact inside test, distance to the surface
   libopenimageio-dev openimageio-tools   # OIIO's CMake config insists on its tools being installed
   libcli11-dev nlohmann-json3-dev libxxhash-dev libspdlog-dev libfmt-dev
   libgtest-dev libsquish-dev                                        # libsquish: BC5 cross-check in tests/test_bc.cpp

@@ -1,32 +1,100 @@
-// cubeao place SCENE --method path --out probes.json: where probes go. Only the stand-in method
-// `path` exists so far (probes spread evenly along the camera path, at the camera's eye height);
-// coverage feedback and normal voting (DESIGN.md §4 "Placement") come with the placement issue.
+// cubeao place SCENE --method voting|coverage|grid|path --out probes.json: where probes go (DESIGN.md
+// §4 "Placement", placement/include/cubeao/placement/placement.h). Every method reports coverage the
+// same way; probes.json records the method, its parameters, the report and each probe's gain.
+#include <sys/resource.h>
+
 #include <cstdio>
+#include <memory>
 
 #include "commands.h"
 #include "cubeao/bake/probe_set.h"
 #include "cubeao/core/error.h"
+#include "cubeao/core/progress.h"
+#include "cubeao/placement/coverage_feedback.h"
+#include "cubeao/placement/placement.h"
 #include "cubeao/scene/builtin.h"
+#include "cubeao/scene/import.h"
 
 namespace cubeao::cli {
 namespace {
 
 struct PlaceArgs {
-    std::string scene, camera, out, method = "path";
-    int budget = 8;
+    std::string scene, camera, out, method = "voting";
+    placement::PlaceSettings settings;
     bool json = false;
 };
 
-void run(const PlaceArgs& a) {
-    if (a.method == "voting" || a.method == "coverage" || a.method == "grid")
-        throw UsageError("--method " + a.method + ": not implemented yet (placement issue); use --method path");
-    if (a.method != "path") throw UsageError("--method \"" + a.method + "\": expected path, grid, voting or coverage");
-    if (a.budget < 1) throw UsageError("--budget must be at least 1");
-    const CameraPath path = resolveCameraPath(a.camera, a.scene);
-    const std::vector<ProbeSpec> probes = probesAlongPath(path, std::size_t(a.budget));
-    writeProbeSet(a.out, probes);
-    std::printf("place: %zu probes along the camera path -> %s\n", probes.size(), a.out.c_str());
-    if (a.json) printJson({{"probes", probes.size()}, {"method", a.method}, {"out", a.out}});
+double peakMemoryMb() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_maxrss) / 1024.0;  // Linux reports kilobytes
+}
+
+void run(PlaceArgs a) {
+    const std::string& m = a.method;
+    if (m != "voting" && m != "coverage" && m != "grid" && m != "path")
+        throw UsageError("--method \"" + m + "\": expected voting, coverage, grid or path");
+    if (m == "path" && a.settings.budget == 0)
+        throw UsageError("--method path needs --budget N (how many probes to spread along the path)");
+    a.settings.validate();
+    const Scene scene = loadScene(a.scene);
+    // The path and coverage methods walk a camera path; voting and grid use one when given (it decides
+    // what is relevant) and free space otherwise. Built-in scenes bring their own path.
+    std::unique_ptr<CameraPath> path;
+    const bool needsPath = m == "path" || m == "coverage";
+    if (needsPath || !a.camera.empty()) path = std::make_unique<CameraPath>(resolveCameraPath(a.camera, a.scene));
+    const placement::PlacementScene ps(scene, a.settings, path.get());
+
+    placement::Placement result;
+    if (m == "voting") {
+        Progress progress("place voting", 0);
+        result = placement::placeVoting(ps, &progress);
+    } else if (m == "grid") {
+        Progress progress("place grid", 0);
+        result = placement::placeGrid(ps, &progress);
+    } else if (m == "coverage") {
+        Progress progress("place coverage", path->frames.size());
+        result = placement::placeCoverage(ps, *path, {}, &progress);
+    } else {
+        std::vector<glm::vec3> positions;
+        for (const ProbeSpec& p : probesAlongPath(*path, std::size_t(a.settings.budget))) positions.push_back(p.position);
+        result = placement::evaluate(ps, positions, "path");
+    }
+    if (result.probes.empty())
+        throw Error("place --method " + m + ": no probe placed (" + std::to_string(ps.freeSpace().candidates().size()) +
+                    " free voxels; " + std::to_string(std::count(ps.relevant().begin(), ps.relevant().end(), 1)) +
+                    " relevant samples): is the scene open on every side, or --voxel/--clearance too large?");
+
+    std::vector<ProbeSpec> probes;
+    nlohmann::json gains = nlohmann::json::array();
+    for (const placement::PlacedProbe& p : result.probes) probes.push_back({p.position, p.gain});
+    nlohmann::json timings = nlohmann::json::object(), figures = nlohmann::json::object();
+    for (const auto& [stage, seconds] : result.timings) timings[stage] = seconds;
+    for (const auto& [name, value] : result.figures) figures[name] = value;
+    const placement::FreeSpace::Stats& fs = ps.freeSpace().stats();
+    const nlohmann::json report{
+        {"method", m},
+        {"params", ps.settings().toJson()},
+        {"camera", a.camera},
+        {"coverage", result.coverage},
+        {"coverage2", result.coverage2},
+        {"relevant_area", result.relevantArea},
+        {"free_space",
+         {{"voxels", fs.voxels}, {"candidates", fs.candidates}, {"too_close", fs.tooClose},
+          {"inside_by_rays", fs.insideByRays}, {"inside_closed", fs.insideClosed}, {"closed_solids", fs.closedSolids},
+          {"closed_rooms", fs.closedRooms}, {"open_components", fs.openComponents}}},
+        {"figures", figures},
+        {"timings_s", timings}};
+    writeProbeSet(a.out, probes, report);
+    std::printf("place %s: %zu probes, coverage %.2f %% (twice: %.2f %%) of %.4g relevant area -> %s\n", m.c_str(),
+                probes.size(), 100.0 * result.coverage, 100.0 * result.coverage2, result.relevantArea, a.out.c_str());
+    if (a.json) {
+        nlohmann::json j = report;
+        j["probes"] = probes.size();
+        j["out"] = a.out;
+        j["peak_memory_mb"] = peakMemoryMb();
+        printJson(j);
+    }
 }
 
 }  // namespace
@@ -34,11 +102,30 @@ void run(const PlaceArgs& a) {
 void addPlace(CLI::App& app) {
     auto* cmd = app.add_subcommand("place", "Place probes (probes.json)");
     auto a = std::make_shared<PlaceArgs>();
+    placement::PlaceSettings& s = a->settings;
     cmd->add_option("scene", a->scene, "Model file or builtin:NAME")->required();
-    cmd->add_option("--method", a->method, "path (for now: along the camera path)")->capture_default_str();
-    cmd->add_option("--camera", a->camera, "Camera path JSON (default for built-in scenes: their own path)");
-    cmd->add_option("--budget", a->budget, "Number of probes")->capture_default_str();
+    cmd->add_option("--method", a->method,
+                    "voting (normal voting + greedy cover), coverage (feedback along --camera), grid (uniform, "
+                    "spacing searched), path (along --camera)")
+        ->capture_default_str();
     cmd->add_option("--out", a->out, "probes.json to write")->required();
+    cmd->add_option("--camera", a->camera,
+                    "Camera path JSON: what it sees is what must be covered (default for built-in scenes with "
+                    "path/coverage: their own path; voting/grid without it cover what free space sees)");
+    cmd->add_option("--budget", s.budget, "Most probes (0: no limit; path needs one)")->capture_default_str();
+    cmd->add_option("--coverage-target", s.target, "Coverage to reach, in (0, 1]")->capture_default_str();
+    cmd->add_option("--voxel", s.voxel, "Candidate voxel edge (0: ~150k voxels in the box)")->capture_default_str();
+    cmd->add_option("--clearance", s.clearance, "Least distance from a probe to geometry (0: half a voxel)")
+        ->capture_default_str();
+    cmd->add_option("--radius", s.radius, "AO radius (0: 2 % of the scene diagonal)")->capture_default_str();
+    cmd->add_option("--res", s.res, "Probe face size the quality threshold assumes (the bake's --res)")
+        ->capture_default_str();
+    cmd->add_option("--texels-per-radius", s.texelsPerRadius,
+                    "Covered: one probe texel spans at most radius / this on the surface")
+        ->capture_default_str();
+    cmd->add_option("--samples", s.samples, "Surface points (two sides each)")->capture_default_str();
+    cmd->add_option("--rays", s.votingRays, "Voting rays per surface sample")->capture_default_str();
+    cmd->add_option("--seed", s.seed, "Seed of the samples and rays")->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
     cmd->callback([a] { run(*a); });
 }

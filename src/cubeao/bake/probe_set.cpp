@@ -46,8 +46,18 @@ std::vector<ProbeSpec> readProbeSet(const std::filesystem::path& file) {
 }
 
 void writeProbeSet(const std::filesystem::path& file, const std::vector<ProbeSpec>& probes) {
-    nlohmann::json j{{"version", 1}, {"probes", nlohmann::json::array()}};
-    for (const auto& p : probes) j["probes"].push_back({{"pos", {p.position.x, p.position.y, p.position.z}}});
+    writeProbeSet(file, probes, nlohmann::json::object());
+}
+
+void writeProbeSet(const std::filesystem::path& file, const std::vector<ProbeSpec>& probes, const nlohmann::json& meta) {
+    nlohmann::json j = meta.is_object() ? meta : nlohmann::json::object();
+    j["version"] = 1;
+    j["probes"] = nlohmann::json::array();
+    for (const auto& p : probes) {
+        nlohmann::json probe{{"pos", {p.position.x, p.position.y, p.position.z}}};
+        if (p.gain >= 0.0) probe["gain"] = p.gain;
+        j["probes"].push_back(std::move(probe));
+    }
     const std::filesystem::path tmp = file.string() + ".tmp";
     {
         std::ofstream out(tmp);

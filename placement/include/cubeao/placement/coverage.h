@@ -1,0 +1,92 @@
+// One definition of coverage for every placement method (DESIGN.md §4 "Placement"):
+// - the surface is sampled by area; each point is two oriented samples (one per side), because AO is
+//   read on the side a viewer sees and a wall has two;
+// - a sample is *relevant* when a viewer can see it: from the camera path when one is given (in a
+//   frame's view, facing the eye, nothing in between), else from free space (placement.h);
+// - a probe *covers* a sample when nothing lies between them (Embree ray) and the probe texel that
+//   sees it spans at most maxTexel on the surface: texelFootprint() of src/cubeao/runtime/projection.h,
+//   the area by which the projection ranks probes;
+// - coverage = covered relevant area / relevant area, coverage2 = the same for two or more probes (the
+//   run time blends the best two).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "cubeao/core/camera.h"
+
+namespace cubeao {
+class EmbreeScene;
+struct Scene;
+}  // namespace cubeao
+
+namespace cubeao::placement {
+
+// The quality threshold of "covered".
+struct CoverageCriterion {
+    int res = 512;           // the bake's probe face size (texels per side)
+    float maxTexel = 0.0f;   // largest texel side on the surface, world units (> 0)
+    float minFacing = 0.05f; // as the projection's ProjectSettings::minFacing
+
+    float maxArea() const { return maxTexel * maxTexel; }
+    // No probe farther than this can cover anything: a texel at a face centre, seen head-on, spans
+    // distance · 2/res.
+    float maxDistance() const { return maxTexel * float(res) / 2.0f; }
+    // The texel area a probe at `probe` gives surface point x with unit normal n (+inf when the side
+    // faces away), the quantity compared with maxArea().
+    float footprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n) const;
+};
+
+struct SurfaceSample {
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f};  // unit, the side this sample stands for
+    float area = 0.0f;       // the surface area it stands for
+    std::uint32_t triangle = 0;
+};
+
+// `points` area-uniform points (stratified along the cumulative area of the triangles, jittered by
+// `seed`), each returned twice, once per side: samples 2i and 2i + 1 share a position. Deterministic.
+std::vector<SurfaceSample> sampleSurface(const Scene& scene, std::size_t points, std::uint32_t seed);
+
+// The relevant samples of a camera path: those inside some frame's view (within the far plane),
+// facing its eye, with nothing in between. At most `maxFrames` frames, evenly spread, are used.
+std::vector<std::uint8_t> relevantFromCamera(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                                             const CameraPath& path, std::size_t maxFrames = 240);
+
+// Whether a probe at `probe` covers sample s: in range, s faces it, the texel is small enough, and an
+// Embree ray finds nothing in between. The one test behind every coverage figure.
+bool probeCovers(const EmbreeScene& embree, const CoverageCriterion& criterion, const glm::vec3& probe,
+                 const SurfaceSample& s);
+// The part of probeCovers() without the ray: cheap, for sorting out probes before tracing.
+bool probeMayCover(const CoverageCriterion& criterion, const glm::vec3& probe, const SurfaceSample& s);
+
+// The samples a probe at `probe` covers, ascending; only those with relevant[i] != 0 are tested.
+std::vector<std::uint32_t> coveredSamples(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                                          std::span<const std::uint8_t> relevant, const CoverageCriterion& criterion,
+                                          const glm::vec3& probe);
+
+// How often each relevant sample is covered, as probes come and go.
+class CoverageCounts {
+public:
+    CoverageCounts(std::span<const SurfaceSample> samples, std::span<const std::uint8_t> relevant);
+
+    void add(std::span<const std::uint32_t> covered);
+    void remove(std::span<const std::uint32_t> covered);
+    double relevantArea() const { return relevantArea_; }
+    double coverage() const;   // covered once or more / relevant area (1 when nothing is relevant)
+    double coverage2() const;  // covered twice or more / relevant area
+    std::uint32_t count(std::uint32_t sample) const { return counts_[sample]; }
+    // Relevant area that `covered` would add to coverage (samples now at 0) and to coverage2 (at 1).
+    double gain(std::span<const std::uint32_t> covered) const;
+    double gain2(std::span<const std::uint32_t> covered) const;
+
+private:
+    std::span<const SurfaceSample> samples_;
+    std::vector<std::uint32_t> counts_;
+    double relevantArea_ = 0.0, once_ = 0.0, twice_ = 0.0;
+};
+
+}  // namespace cubeao::placement

@@ -1,0 +1,59 @@
+// Coverage feedback (thesis 003, made better; DESIGN.md §4 "Placement"): walk a camera path one frame
+// at a time; per frame count the surface pixels no probe covers (coverage.h's criterion), and while
+// the frame is below the target add the candidate voxel the uncovered pixels' surface points vote
+// for (normal voting restricted to what this frame shows), not simply the camera's eye. The viewer
+// feeds the same class live.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "cubeao/core/camera.h"
+#include "cubeao/placement/placement.h"
+
+namespace cubeao::placement {
+
+struct FeedbackSettings {
+    int width = 64, height = 36;  // pixels per frame the coverage is counted at
+    int maxPerFrame = 4;          // probes one frame may add
+};
+
+// One frame's surface pixels as the coverage count sees them: position and normal turned to the eye.
+struct FramePixels {
+    std::vector<SurfaceSample> points;  // area 1 each: pixels count equally
+    std::size_t pixels = 0;             // all pixels, background included
+};
+
+FramePixels tracePixels(const EmbreeScene& embree, const PinholeCamera& camera);
+
+class CoverageFeedback {
+public:
+    CoverageFeedback(const PlacementScene& ps, FeedbackSettings settings);
+
+    struct FrameResult {
+        double before = 1.0, after = 1.0;  // covered share of the frame's surface pixels
+        int added = 0;
+    };
+    FrameResult addFrame(const PinholeCamera& camera);
+
+    // Covered share of the pixels (1 when none shows a surface) with the current probes: the count the
+    // GPU count is checked against.
+    double frameCoverage(const FramePixels& pixels) const;
+    const std::vector<glm::vec3>& probes() const { return probes_; }
+
+private:
+    std::vector<std::uint8_t> coveredMask(const FramePixels& pixels) const;
+
+    const PlacementScene& ps_;
+    FeedbackSettings settings_;
+    std::vector<glm::vec3> probes_;
+};
+
+// Runs CoverageFeedback over every frame of `path` (at settings' resolution) and reports the probes
+// with coverage.h's definition.
+Placement placeCoverage(const PlacementScene& ps, const CameraPath& path, FeedbackSettings settings = {},
+                        Progress* progress = nullptr);
+
+}  // namespace cubeao::placement

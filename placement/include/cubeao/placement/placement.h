@@ -1,0 +1,124 @@
+// Where probes go (DESIGN.md §4 "Placement", issue 12). Every method works on one PlacementScene (the
+// scene's samples, which of them are relevant, the free space and its candidates, the coverage
+// criterion) and returns probes in the order chosen with the coverage each one added, measured by
+// the one definition of coverage.h:
+// - voting: each relevant sample casts rays in a cone around its normal; every candidate voxel a ray
+//   crosses before it hits geometry, near enough to give a small enough texel, gets the sample's vote.
+//   Lazy greedy then takes the candidate whose voters are the most still-uncovered area (second
+//   coverage counting half), until the target or the budget; a pruning pass drops probes the target
+//   does not need and each probe moves to a neighbouring voxel where it covers more;
+// - grid: a uniform lattice of free points; the spacing is searched by bisection for the coarsest
+//   that reaches the target (or the finest within the budget), so it is compared at its best;
+// - path and coverage feedback produce their probes elsewhere (probe_set.h, coverage_feedback.h) and
+//   are reported here by evaluate().
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <nlohmann/json_fwd.hpp>
+
+#include "cubeao/core/camera.h"
+#include "cubeao/placement/coverage.h"
+#include "cubeao/placement/free_space.h"
+
+namespace cubeao {
+class EmbreeScene;
+class Progress;
+struct Scene;
+}  // namespace cubeao
+
+namespace cubeao::placement {
+
+struct PlaceSettings {
+    float radius = 0.0f;           // AO radius; 0 → the scene's default (2 % of the diagonal)
+    int res = 512;                 // the bake's face size the criterion assumes
+    float texelsPerRadius = 8.0f;  // covered: one texel spans at most radius / texelsPerRadius
+    float voxel = 0.0f;            // candidate voxel edge; 0 → about 150 000 voxels in the box
+    float clearance = 0.0f;        // 0 → half a voxel
+    std::size_t samples = 12000;   // surface points (two samples each)
+    int votingRays = 24;           // rays per relevant sample
+    double target = 0.95;          // coverage to reach (1 = as much as the budget allows)
+    int budget = 0;                // most probes; 0 = no limit
+    std::uint32_t seed = 0;
+
+    // Throws UsageError naming the bad value.
+    void validate() const;
+    nlohmann::json toJson() const;
+};
+
+// Everything the methods share. Building it is the expensive common part: Embree, the free-space
+// voxels, the samples and their relevance.
+class PlacementScene {
+public:
+    // `camera` may be null: then the relevant samples are those free space sees.
+    PlacementScene(const Scene& scene, const PlaceSettings& settings, const CameraPath* camera);
+    ~PlacementScene();
+    PlacementScene(const PlacementScene&) = delete;
+    PlacementScene& operator=(const PlacementScene&) = delete;
+
+    const Scene& scene() const { return scene_; }
+    const EmbreeScene& embree() const { return *embree_; }
+    const FreeSpace& freeSpace() const { return *freeSpace_; }
+    const PlaceSettings& settings() const { return settings_; }
+    const CoverageCriterion& criterion() const { return criterion_; }
+    const std::vector<SurfaceSample>& samples() const { return samples_; }
+    const std::vector<std::uint8_t>& relevant() const { return relevant_; }
+    bool hasCamera() const { return hasCamera_; }
+
+    std::vector<std::uint32_t> covered(const glm::vec3& probe) const;
+
+    // Voters per candidate (CSR: candidate c's samples are voters[offsets[c] .. offsets[c + 1])), and
+    // the quality-weighted vote of each candidate (Σ area / footprint). Cast on first use.
+    struct Votes {
+        std::vector<std::uint64_t> offsets;
+        std::vector<std::uint32_t> voters;
+        std::vector<float> weight;
+        std::size_t rays = 0;
+    };
+    const Votes& votes() const;
+
+    // Seconds per stage so far ("samples", "free_space", "relevance", "votes").
+    const std::vector<std::pair<std::string, double>>& timings() const { return timings_; }
+
+private:
+    const Scene& scene_;
+    PlaceSettings settings_;
+    CoverageCriterion criterion_;
+    std::unique_ptr<EmbreeScene> embree_;
+    std::unique_ptr<FreeSpace> freeSpace_;
+    std::vector<SurfaceSample> samples_;
+    std::vector<std::uint8_t> relevant_;
+    bool hasCamera_ = false;
+    mutable std::optional<Votes> votes_;
+    mutable std::vector<std::pair<std::string, double>> timings_;
+};
+
+struct PlacedProbe {
+    glm::vec3 position{0.0f};
+    double gain = 0.0;   // coverage this probe added after the ones before it
+    double gain2 = 0.0;  // the same for coverage2
+};
+
+struct Placement {
+    std::string method;
+    std::vector<PlacedProbe> probes;
+    double coverage = 0.0, coverage2 = 0.0, relevantArea = 0.0;
+    std::vector<std::pair<std::string, double>> timings;  // seconds per stage
+    std::vector<std::pair<std::string, double>> figures;  // method-specific numbers (grid spacing, ...)
+};
+
+// The coverage report of given probes, in their order (path, coverage feedback, any probes.json).
+Placement evaluate(const PlacementScene& ps, const std::vector<glm::vec3>& probes, std::string method);
+
+Placement placeVoting(const PlacementScene& ps, Progress* progress = nullptr);
+Placement placeGrid(const PlacementScene& ps, Progress* progress = nullptr);
+// The points of a lattice with spacing `spacing`, centred in the scene's box, that are free or have a
+// free voxel centre within half a spacing (where they move).
+std::vector<glm::vec3> gridProbes(const PlacementScene& ps, float spacing);
+
+}  // namespace cubeao::placement

@@ -1,0 +1,154 @@
+#include "cubeao/placement/coverage.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "cubeao/core/sampling.h"
+#include "cubeao/reference/embree_scene.h"
+#include "cubeao/runtime/projection.h"
+#include "cubeao/scene/scene.h"
+
+namespace cubeao::placement {
+
+float CoverageCriterion::footprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n) const {
+    return float(texelFootprint(probe, x, n, res, minFacing));
+}
+
+std::vector<SurfaceSample> sampleSurface(const Scene& scene, std::size_t points, std::uint32_t seed) {
+    const std::size_t triangles = scene.triangleCount();
+    std::vector<double> cumulative(triangles);
+    double total = 0.0;
+    for (std::size_t t = 0; t < triangles; ++t) {
+        const glm::vec3 a = scene.positions[scene.indices[3 * t]], b = scene.positions[scene.indices[3 * t + 1]],
+                        c = scene.positions[scene.indices[3 * t + 2]];
+        total += 0.5 * double(glm::length(glm::cross(b - a, c - a)));
+        cumulative[t] = total;
+    }
+    std::vector<SurfaceSample> samples;
+    if (points == 0 || !(total > 0.0)) return samples;
+    samples.reserve(2 * points);
+    const float area = float(total / double(points));
+    for (std::size_t i = 0; i < points; ++i) {
+        // Stratified: point i falls in the i-th of `points` equal slices of the cumulative area.
+        const std::uint32_t key = sampling::hashKey(std::uint32_t(i), seed, 0x5A3F1u);
+        const double u = (double(i) + double(sampling::toUnitFloat(key))) / double(points) * total;
+        const std::size_t t = std::min<std::size_t>(
+            std::size_t(std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin()), triangles - 1);
+        const glm::vec3 a = scene.positions[scene.indices[3 * t]], b = scene.positions[scene.indices[3 * t + 1]],
+                        c = scene.positions[scene.indices[3 * t + 2]];
+        // Uniform in the triangle: the square-root map of two hashed numbers.
+        const float r1 = std::sqrt(sampling::toUnitFloat(sampling::hash32(key ^ 0x68E31DA4u)));
+        const float r2 = sampling::toUnitFloat(sampling::hash32(key ^ 0xB5297A4Du));
+        const glm::vec3 p = (1.0f - r1) * a + r1 * (1.0f - r2) * b + r1 * r2 * c;
+        const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
+        samples.push_back({p, n, area, std::uint32_t(t)});
+        samples.push_back({p, -n, area, std::uint32_t(t)});
+    }
+    return samples;
+}
+
+std::vector<std::uint8_t> relevantFromCamera(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                                             const CameraPath& path, std::size_t maxFrames) {
+    std::vector<PinholeCamera> cameras;
+    const std::size_t frames = path.frames.size();
+    const std::size_t used = std::min(frames, std::max<std::size_t>(maxFrames, 1));
+    for (std::size_t k = 0; k < used; ++k) cameras.emplace_back(path, k * frames / used, path.width, path.height);
+    const float aspect = float(path.width) / float(path.height);
+    const float eps = embree.surfaceEpsilon();
+    std::vector<std::uint8_t> relevant(samples.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size()), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            const SurfaceSample& s = samples[i];
+            for (const PinholeCamera& cam : cameras) {
+                const glm::vec3 d = s.position - cam.eye;
+                const float z = glm::dot(d, cam.forward), distance = glm::length(d);
+                if (!(z > path.nearPlane) || distance > path.farPlane || !(glm::dot(s.normal, d) < 0.0f)) continue;
+                const float h = z * cam.tanHalfFovY;
+                if (std::abs(glm::dot(d, cam.up)) > h || std::abs(glm::dot(d, cam.right)) > h * aspect) continue;
+                const glm::vec3 origin = s.position + s.normal * eps;
+                const glm::vec3 toEye = cam.eye - origin;
+                const float length = glm::length(toEye);
+                if (!embree.occluded(origin, toEye / length, 0.0f, length)) {
+                    relevant[i] = 1;
+                    break;
+                }
+            }
+        }
+    });
+    return relevant;
+}
+
+bool probeMayCover(const CoverageCriterion& criterion, const glm::vec3& probe, const SurfaceSample& s) {
+    const glm::vec3 d = probe - s.position;
+    const float maxDistance = criterion.maxDistance();
+    if (glm::dot(d, d) > maxDistance * maxDistance || !(glm::dot(d, s.normal) > 0.0f)) return false;
+    return criterion.footprint(probe, s.position, s.normal) <= criterion.maxArea();
+}
+
+bool probeCovers(const EmbreeScene& embree, const CoverageCriterion& criterion, const glm::vec3& probe,
+                 const SurfaceSample& s) {
+    if (!probeMayCover(criterion, probe, s)) return false;
+    const glm::vec3 origin = s.position + s.normal * embree.surfaceEpsilon();
+    const glm::vec3 toProbe = probe - origin;
+    const float length = glm::length(toProbe);
+    return !embree.occluded(origin, toProbe / length, 0.0f, length);
+}
+
+std::vector<std::uint32_t> coveredSamples(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                                          std::span<const std::uint8_t> relevant, const CoverageCriterion& criterion,
+                                          const glm::vec3& probe) {
+    std::vector<std::uint8_t> hit(samples.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size(), 256), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i)
+            if (relevant[i] && probeCovers(embree, criterion, probe, samples[i])) hit[i] = 1;
+    });
+    std::vector<std::uint32_t> covered;
+    for (std::size_t i = 0; i < hit.size(); ++i)
+        if (hit[i]) covered.push_back(std::uint32_t(i));
+    return covered;
+}
+
+CoverageCounts::CoverageCounts(std::span<const SurfaceSample> samples, std::span<const std::uint8_t> relevant)
+    : samples_(samples), counts_(samples.size(), 0) {
+    for (std::size_t i = 0; i < samples.size(); ++i)
+        if (relevant[i]) relevantArea_ += samples[i].area;
+}
+
+void CoverageCounts::add(std::span<const std::uint32_t> covered) {
+    for (const std::uint32_t i : covered) {
+        const std::uint32_t c = counts_[i]++;
+        if (c == 0) once_ += samples_[i].area;
+        if (c == 1) twice_ += samples_[i].area;
+    }
+}
+
+void CoverageCounts::remove(std::span<const std::uint32_t> covered) {
+    for (const std::uint32_t i : covered) {
+        const std::uint32_t c = --counts_[i];
+        if (c == 0) once_ -= samples_[i].area;
+        if (c == 1) twice_ -= samples_[i].area;
+    }
+}
+
+double CoverageCounts::coverage() const { return relevantArea_ > 0.0 ? std::min(1.0, once_ / relevantArea_) : 1.0; }
+double CoverageCounts::coverage2() const { return relevantArea_ > 0.0 ? std::min(1.0, twice_ / relevantArea_) : 1.0; }
+
+double CoverageCounts::gain(std::span<const std::uint32_t> covered) const {
+    double g = 0.0;
+    for (const std::uint32_t i : covered)
+        if (counts_[i] == 0) g += samples_[i].area;
+    return g;
+}
+
+double CoverageCounts::gain2(std::span<const std::uint32_t> covered) const {
+    double g = 0.0;
+    for (const std::uint32_t i : covered)
+        if (counts_[i] == 1) g += samples_[i].area;
+    return g;
+}
+
+}  // namespace cubeao::placement

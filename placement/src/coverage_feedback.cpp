@@ -1,0 +1,123 @@
+#include "cubeao/placement/coverage_feedback.h"
+
+#include <algorithm>
+#include <limits>
+
+#include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "cubeao/core/progress.h"
+#include "cubeao/core/stopwatch.h"
+#include "cubeao/reference/embree_scene.h"
+#include "votes.h"
+
+namespace cubeao::placement {
+
+FramePixels tracePixels(const EmbreeScene& embree, const PinholeCamera& camera) {
+    FramePixels out;
+    out.pixels = std::size_t(camera.width) * std::size_t(camera.height);
+    std::vector<SurfaceSample> all(out.pixels);
+    std::vector<std::uint8_t> hit(out.pixels, 0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, camera.height), [&](const auto& rows) {
+        for (int y = rows.begin(); y != rows.end(); ++y)
+            for (int x = 0; x < camera.width; ++x) {
+                const glm::vec3 dir = camera.rayDirection(x, y);
+                const RayHit h = embree.intersect(camera.eye, dir, 0.0f, std::numeric_limits<float>::infinity());
+                if (!h.hit) continue;
+                const std::size_t i = std::size_t(y) * std::size_t(camera.width) + std::size_t(x);
+                const glm::vec3 n = glm::dot(h.normal, dir) < 0.0f ? h.normal : -h.normal;  // the side the eye sees
+                all[i] = {camera.eye + dir * h.t, glm::normalize(n), 1.0f, h.primitive};
+                hit[i] = 1;
+            }
+    });
+    for (std::size_t i = 0; i < all.size(); ++i)
+        if (hit[i]) out.points.push_back(all[i]);
+    return out;
+}
+
+CoverageFeedback::CoverageFeedback(const PlacementScene& ps, FeedbackSettings settings)
+    : ps_(ps), settings_(settings) {}
+
+std::vector<std::uint8_t> CoverageFeedback::coveredMask(const FramePixels& pixels) const {
+    std::vector<std::uint8_t> covered(pixels.points.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels.points.size(), 64), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i)
+            for (const glm::vec3& p : probes_)
+                if (probeCovers(ps_.embree(), ps_.criterion(), p, pixels.points[i])) {
+                    covered[i] = 1;
+                    break;
+                }
+    });
+    return covered;
+}
+
+double CoverageFeedback::frameCoverage(const FramePixels& pixels) const {
+    if (pixels.points.empty()) return 1.0;
+    const std::vector<std::uint8_t> covered = coveredMask(pixels);
+    return double(std::count(covered.begin(), covered.end(), 1)) / double(pixels.points.size());
+}
+
+CoverageFeedback::FrameResult CoverageFeedback::addFrame(const PinholeCamera& camera) {
+    const FramePixels pixels = tracePixels(ps_.embree(), camera);
+    FrameResult r;
+    if (pixels.points.empty()) return r;
+    std::vector<std::uint8_t> covered = coveredMask(pixels);
+    auto share = [&] { return double(std::count(covered.begin(), covered.end(), 1)) / double(covered.size()); };
+    r.before = r.after = share();
+    const PlaceSettings& settings = ps_.settings();
+    const std::size_t budget = settings.budget > 0 ? std::size_t(settings.budget) : std::numeric_limits<std::size_t>::max();
+    while (r.after < settings.target && r.added < settings_.maxPerFrame && probes_.size() < budget) {
+        // The uncovered pixels vote: the candidate most of them would see at a small enough texel.
+        std::vector<std::uint8_t> uncovered(covered.size());
+        for (std::size_t i = 0; i < covered.size(); ++i) uncovered[i] = covered[i] ? 0 : 1;
+        const PlacementScene::Votes votes =
+            castVotes(ps_.embree(), ps_.freeSpace(), pixels.points, uncovered, ps_.criterion(), settings.votingRays,
+                      settings.seed ^ std::uint32_t(probes_.size()), nullptr);
+        std::size_t best = votes.weight.size();
+        std::uint64_t bestVoters = 0;
+        for (std::size_t c = 0; c < votes.weight.size(); ++c) {
+            const std::uint64_t voters = votes.offsets[c + 1] - votes.offsets[c];
+            if (voters > bestVoters || (voters == bestVoters && voters > 0 && votes.weight[c] > votes.weight[best]))
+                best = c, bestVoters = voters;
+        }
+        if (bestVoters == 0) break;  // nothing free sees what is missing
+        const glm::vec3 probe = ps_.freeSpace().candidatePosition(best);
+        std::size_t gained = 0;
+        for (std::size_t i = 0; i < covered.size(); ++i)
+            if (!covered[i] && probeCovers(ps_.embree(), ps_.criterion(), probe, pixels.points[i])) {
+                covered[i] = 1;
+                ++gained;
+            }
+        if (gained == 0) break;  // the votes' voxel centre is hidden from every voter: stop for this frame
+        probes_.push_back(probe);
+        ++r.added;
+        r.after = share();
+    }
+    return r;
+}
+
+Placement placeCoverage(const PlacementScene& ps, const CameraPath& path, FeedbackSettings settings,
+                        Progress* progress) {
+    Stopwatch watch;
+    CoverageFeedback feedback(ps, settings);
+    double before = 0.0, after = 0.0;
+    for (std::size_t f = 0; f < path.frames.size(); ++f) {
+        const CoverageFeedback::FrameResult r =
+            feedback.addFrame(PinholeCamera(path, f, settings.width, settings.height));
+        before += r.before;
+        after += r.after;
+        if (progress) progress->advance();
+    }
+    const double walkSeconds = watch.restart();
+    Placement result = evaluate(ps, feedback.probes(), "coverage");
+    result.timings.emplace(result.timings.end() - 1, "walk", walkSeconds);
+    const double frames = double(std::max<std::size_t>(path.frames.size(), 1));
+    result.figures = {{"frames", double(path.frames.size())},
+                      {"frame_coverage_before", before / frames},
+                      {"frame_coverage_after", after / frames},
+                      {"pixels_per_frame", double(settings.width * settings.height)}};
+    return result;
+}
+
+}  // namespace cubeao::placement

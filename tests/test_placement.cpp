@@ -1,0 +1,402 @@
+// Probe placement (placement/, issue 12): voting against the grid and the camera path on small scenes
+// whose answer is known by construction, the free-space guarantee, monotone coverage, the budget,
+// determinism, and coverage feedback on a builtin scene.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+
+#include "cubeao/bake/probe_set.h"
+#include "cubeao/core/camera.h"
+#include "cubeao/placement/coverage.h"
+#include "cubeao/placement/coverage_feedback.h"
+#include "cubeao/placement/free_space.h"
+#include "cubeao/placement/placement.h"
+#include "cubeao/scene/builtin.h"
+#include "cubeao/scene/import.h"
+#include "cubeao/scene/scene.h"
+#include "cubeao/scenes/mesh_builder.h"
+
+namespace cubeao::placement {
+namespace {
+
+using scenes::MeshBuilder;
+
+// An axis-aligned rectangle from `lo` to `hi` (equal in exactly one coordinate, the plane's axis),
+// facing `normal` (±1 on that axis): the corners are ordered counter-clockwise seen from that side.
+void rect(MeshBuilder& b, const glm::vec3& lo, const glm::vec3& hi, const glm::vec3& normal) {
+    int axis = 0;
+    for (int a = 0; a < 3; ++a)
+        if (lo[a] == hi[a]) axis = a;
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;  // e_u × e_v = e_axis
+    auto corner = [&](float cu, float cv) {
+        glm::vec3 p = lo;
+        p[u] = cu;
+        p[v] = cv;
+        return p;
+    };
+    const glm::vec3 a = corner(lo[u], lo[v]), b1 = corner(hi[u], lo[v]), c = corner(hi[u], hi[v]),
+                    d = corner(lo[u], hi[v]);
+    if (normal[axis] > 0.0f)
+        b.addQuad(a, b1, c, d);
+    else
+        b.addQuad(d, c, b1, a);
+}
+
+Scene finish(MeshBuilder& b, const char* name) {
+    Scene scene = b.take();
+    scene.source = name;
+    finalizeScene(scene);
+    return scene;
+}
+
+PlaceSettings coarse(const Scene& scene, double target) {
+    PlaceSettings s;
+    const glm::vec3 extent = scene.bounds.max - scene.bounds.min;
+    s.voxel = std::max({extent.x, extent.y, extent.z}) / 25.0f;
+    s.samples = 2000;
+    s.votingRays = 16;
+    // A coarse bake (64² faces) and a lenient texel (radius / 2): a probe covers out to a few metres,
+    // so distance decides as much as visibility.
+    s.res = 64;
+    s.texelsPerRadius = 2.0f;
+    s.target = target;
+    s.seed = 7;
+    return s;
+}
+
+std::vector<glm::vec3> positionsOf(const Placement& r) {
+    std::vector<glm::vec3> p;
+    for (const PlacedProbe& probe : r.probes) p.push_back(probe.position);
+    return p;
+}
+
+bool inBox(const glm::vec3& p, const glm::vec3& lo, const glm::vec3& hi) {
+    return glm::all(glm::greaterThanEqual(p, lo)) && glm::all(glm::lessThanEqual(p, hi));
+}
+
+// Relevant area, and the part of it that `probes` cover, of the relevant samples `select` picks.
+std::pair<double, double> coveredArea(const PlacementScene& ps, const std::vector<glm::vec3>& probes, auto select) {
+    std::vector<std::uint8_t> hit(ps.samples().size(), 0);
+    for (const glm::vec3& p : probes)
+        for (const std::uint32_t i : ps.covered(p)) hit[i] = 1;
+    double relevant = 0.0, covered = 0.0;
+    for (std::size_t i = 0; i < ps.samples().size(); ++i) {
+        if (!ps.relevant()[i] || !select(ps.samples()[i])) continue;
+        relevant += ps.samples()[i].area;
+        if (hit[i]) covered += ps.samples()[i].area;
+    }
+    return {relevant, covered};
+}
+
+// ---- Two rooms joined by a door ---------------------------------------------------------------------
+
+constexpr float kH = 2.5f;                   // ceiling height of both rooms
+constexpr float kAx1 = 3.0f, kBx0 = 3.2f;    // room A x ∈ [0, 3], the wall, room B x ∈ [3.2, 10.2]
+constexpr float kBx1 = 10.2f, kDepth = 4.0f;  // both z ∈ [0, 4]
+constexpr float kDoorZ0 = 1.6f, kDoorZ1 = 2.4f, kDoorH = 2.0f;
+
+// One room's five plain faces, its inner wall (at x = wallX, facing `wallNormal`) with the door cut out.
+void roomWithDoor(MeshBuilder& b, float x0, float x1, float wallX, float wallNormal) {
+    rect(b, {x0, 0, 0}, {x1, 0, kDepth}, {0, 1, 0});     // floor
+    rect(b, {x0, kH, 0}, {x1, kH, kDepth}, {0, -1, 0});  // ceiling
+    rect(b, {x0, 0, 0}, {x1, kH, 0}, {0, 0, 1});
+    rect(b, {x0, 0, kDepth}, {x1, kH, kDepth}, {0, 0, -1});
+    const float outerX = wallX == x0 ? x1 : x0;
+    rect(b, {outerX, 0, 0}, {outerX, kH, kDepth}, {-wallNormal, 0, 0});
+    rect(b, {wallX, 0, 0}, {wallX, kH, kDoorZ0}, {wallNormal, 0, 0});
+    rect(b, {wallX, 0, kDoorZ1}, {wallX, kH, kDepth}, {wallNormal, 0, 0});
+    rect(b, {wallX, kDoorH, kDoorZ0}, {wallX, kH, kDoorZ1}, {wallNormal, 0, 0});
+}
+
+Scene twoRooms() {
+    MeshBuilder b;
+    roomWithDoor(b, 0.0f, kAx1, kAx1, -1.0f);
+    roomWithDoor(b, kBx0, kBx1, kBx0, 1.0f);
+    // The door's reveal through the wall's thickness.
+    rect(b, {kAx1, 0, kDoorZ0}, {kBx0, kDoorH, kDoorZ0}, {0, 0, 1});
+    rect(b, {kAx1, 0, kDoorZ1}, {kBx0, kDoorH, kDoorZ1}, {0, 0, -1});
+    rect(b, {kAx1, kDoorH, kDoorZ0}, {kBx0, kDoorH, kDoorZ1}, {0, -1, 0});
+    rect(b, {kAx1, 0, kDoorZ0}, {kBx0, 0, kDoorZ1}, {0, 1, 0});
+    return finish(b, "test:two-rooms");
+}
+
+TEST(Placement, TwoRoomsVotingBeatsGrid) {
+    const Scene scene = twoRooms();
+    PlaceSettings s = coarse(scene, 0.95);
+    s.texelsPerRadius = 3.0f;  // reach 2.4: room B (7 long) needs several probes; the doorway sees neither far wall
+    const PlacementScene ps(scene, s, nullptr);
+    // The threshold keeps a probe from covering both rooms: from the middle of the doorway the far
+    // walls of both rooms lie beyond the criterion's reach.
+    const float reach = ps.criterion().maxDistance();
+    const glm::vec3 door(0.5f * (kAx1 + kBx0), 1.0f, 0.5f * (kDoorZ0 + kDoorZ1));
+    ASSERT_LT(reach, door.x);
+    ASSERT_LT(reach, kBx1 - door.x);
+
+    const Placement voting = placeVoting(ps);
+    const Placement grid = placeGrid(ps);
+    std::printf("two rooms: reach %.2f, voting %zu probes coverage %.4f; grid %zu probes coverage %.4f\n", reach,
+                voting.probes.size(), voting.coverage, grid.probes.size(), grid.coverage);
+
+    EXPECT_GE(voting.coverage, s.target);
+    int inA = 0, inB = 0;
+    for (const PlacedProbe& p : voting.probes) {
+        inA += p.position.x < kAx1 ? 1 : 0;
+        inB += p.position.x > kBx0 ? 1 : 0;
+    }
+    EXPECT_GE(inA, 1);
+    EXPECT_GE(inB, 1);
+    // Both rooms' relevant samples are covered to the target, each on its own.
+    auto inRoom = [&](float x0, float x1) {
+        return [=](const SurfaceSample& smp) { return smp.position.x >= x0 && smp.position.x <= x1; };
+    };
+    const auto [areaA, coveredA] = coveredArea(ps, positionsOf(voting), inRoom(0.0f, kAx1));
+    const auto [areaB, coveredB] = coveredArea(ps, positionsOf(voting), inRoom(kBx0, kBx1));
+    ASSERT_GT(areaA, 0.0);
+    ASSERT_GT(areaB, 0.0);
+    // The target is a total (the greedy stops when the sum reaches it), so one room may fall a little
+    // short of it: seed 7 gives 0.951 in all with room B at 0.949. Neither room is left behind, though.
+    EXPECT_GE(coveredA / areaA, 0.9) << "room A";
+    EXPECT_GE(coveredB / areaB, 0.9) << "room B";
+
+    if (grid.coverage >= s.target)
+        EXPECT_GT(grid.probes.size(), voting.probes.size());
+    else
+        EXPECT_GE(voting.coverage, s.target);  // voting reached what the grid did not
+}
+
+// ---- An L-shaped corridor -----------------------------------------------------------------------
+
+constexpr float kCorridorH = 2.4f, kLeg = 6.0f, kWidth = 1.2f;
+// Plan (x, z): leg 1 is [0, 6] × [0, 1.2], leg 2 is [4.8, 6] × [0, 6].
+const glm::vec2 kLOutline[6] = {{0, 0}, {kLeg, 0}, {kLeg, kLeg}, {kLeg - kWidth, kLeg},
+                                {kLeg - kWidth, kWidth}, {0, kWidth}};
+
+Scene lCorridor() {
+    MeshBuilder b;
+    const float x1 = kLeg - kWidth;
+    for (const float y : {0.0f, kCorridorH}) {
+        const glm::vec3 n(0, y == 0.0f ? 1.0f : -1.0f, 0);
+        rect(b, {0, y, 0}, {kLeg, y, kWidth}, n);
+        rect(b, {x1, y, kWidth}, {kLeg, y, kLeg}, n);
+    }
+    rect(b, {0, 0, 0}, {kLeg, kCorridorH, 0}, {0, 0, 1});
+    rect(b, {kLeg, 0, 0}, {kLeg, kCorridorH, kLeg}, {-1, 0, 0});
+    rect(b, {x1, 0, kLeg}, {kLeg, kCorridorH, kLeg}, {0, 0, -1});
+    // The inner walls are the faces of a solid core: left open, the quarter of the bounding box outside
+    // the L would be free space too (rays from it escape), and probes would go there to cover the
+    // walls' outer sides, as the library's definition of free space intends.
+    b.addBox({0, 0, kWidth}, {x1, kCorridorH, kLeg}, /*inward=*/false, /*bottom=*/true);
+    rect(b, {0, 0, 0}, {0, kCorridorH, kWidth}, {1, 0, 0});
+    return finish(b, "test:l-corridor");
+}
+
+// Distance from p to the outside of the corridor (0 or less when p is not inside it), computed from
+// the plan, not from the mesh: the corridor is a prism over the L outline.
+float depthInCorridor(const glm::vec3& p) {
+    const glm::vec2 q(p.x, p.z);
+    const bool leg1 = q.x > 0 && q.x < kLeg && q.y > 0 && q.y < kWidth;
+    const bool leg2 = q.x > kLeg - kWidth && q.x < kLeg && q.y > 0 && q.y < kLeg;
+    if (!(leg1 || leg2) || p.y <= 0 || p.y >= kCorridorH) return 0.0f;
+    float d = std::min(p.y, kCorridorH - p.y);
+    for (int k = 0; k < 6; ++k) {
+        const glm::vec2 a = kLOutline[k], e = kLOutline[(k + 1) % 6] - a;
+        const float t = glm::clamp(glm::dot(q - a, e) / glm::dot(e, e), 0.0f, 1.0f);
+        d = std::min(d, glm::distance(q, a + t * e));
+    }
+    return d;
+}
+
+TEST(Placement, LCorridorProbesKeepClearance) {
+    const Scene scene = lCorridor();
+    const PlaceSettings s = coarse(scene, 0.95);
+    const PlacementScene ps(scene, s, nullptr);
+    const Placement voting = placeVoting(ps);
+    std::printf("L corridor: clearance %.3f, voting %zu probes coverage %.4f\n", ps.freeSpace().clearance(),
+                voting.probes.size(), voting.coverage);
+    EXPECT_GE(voting.coverage, s.target);
+    ASSERT_FALSE(voting.probes.empty());
+    const float clearance = ps.freeSpace().clearance();
+    EXPECT_GT(clearance, 0.0f);
+    for (const PlacedProbe& p : voting.probes)
+        EXPECT_GE(depthInCorridor(p.position), clearance - 1e-4f)
+            << "probe at " << p.position.x << ", " << p.position.y << ", " << p.position.z;
+}
+
+// ---- An alcove seen from one spot ---------------------------------------------------------------
+
+// Room [0, 8] × [0, 3] × [0, 5]; in its far wall (z = 5) an alcove 1 wide, 2.4 high, 3 deep.
+constexpr float kRoomW = 8.0f, kRoomH = 3.0f, kRoomD = 5.0f;
+constexpr float kAlcX0 = 3.5f, kAlcX1 = 4.5f, kAlcH = 2.4f, kAlcBack = 8.0f;
+
+Scene alcoveRoom() {
+    MeshBuilder b;
+    rect(b, {0, 0, 0}, {kRoomW, 0, kRoomD}, {0, 1, 0});
+    rect(b, {0, kRoomH, 0}, {kRoomW, kRoomH, kRoomD}, {0, -1, 0});
+    rect(b, {0, 0, 0}, {kRoomW, kRoomH, 0}, {0, 0, 1});
+    rect(b, {0, 0, 0}, {0, kRoomH, kRoomD}, {1, 0, 0});
+    rect(b, {kRoomW, 0, 0}, {kRoomW, kRoomH, kRoomD}, {-1, 0, 0});
+    rect(b, {0, 0, kRoomD}, {kAlcX0, kRoomH, kRoomD}, {0, 0, -1});
+    rect(b, {kAlcX1, 0, kRoomD}, {kRoomW, kRoomH, kRoomD}, {0, 0, -1});
+    rect(b, {kAlcX0, kAlcH, kRoomD}, {kAlcX1, kRoomH, kRoomD}, {0, 0, -1});
+    rect(b, {kAlcX0, 0, kRoomD}, {kAlcX1, 0, kAlcBack}, {0, 1, 0});
+    rect(b, {kAlcX0, kAlcH, kRoomD}, {kAlcX1, kAlcH, kAlcBack}, {0, -1, 0});
+    rect(b, {kAlcX0, 0, kRoomD}, {kAlcX0, kAlcH, kAlcBack}, {1, 0, 0});
+    rect(b, {kAlcX1, 0, kRoomD}, {kAlcX1, kAlcH, kAlcBack}, {-1, 0, 0});
+    rect(b, {kAlcX0, 0, kAlcBack}, {kAlcX1, kAlcH, kAlcBack}, {0, 0, -1});
+    return finish(b, "test:alcove");
+}
+
+// A walk along z = 1.5 looking at the near wall (z = 0); the one frame in the middle turns round and
+// looks straight into the alcove, 6.5 from its back wall.
+CameraPath alcoveWalk() {
+    CameraPath path;
+    path.width = 64;
+    path.height = 36;
+    path.fovYDeg = 60.0f;
+    for (int i = 0; i < 9; ++i) {
+        const float x = 0.8f + 0.8f * float(i);
+        const glm::vec3 eye(x, 1.6f, 1.5f);
+        if (i == 4)
+            path.frames.push_back({eye, {0.5f * (kAlcX0 + kAlcX1), 1.2f, kAlcBack}});
+        else
+            path.frames.push_back({eye, {x, 1.4f, -1.0f}});
+    }
+    return path;
+}
+
+TEST(Placement, AlcoveSeenOnceVotingCoversPathDoesNot) {
+    const Scene scene = alcoveRoom();
+    const CameraPath path = alcoveWalk();
+    const PlaceSettings s = coarse(scene, 0.95);
+    const PlacementScene ps(scene, s, &path);
+    // Physically true by construction: every path probe stands at z = 1.5, beyond reach of the back wall.
+    ASSERT_LT(ps.criterion().maxDistance(), kAlcBack - 1.5f);
+
+    const Placement voting = placeVoting(ps);
+    std::vector<glm::vec3> along;
+    for (const ProbeSpec& p : probesAlongPath(path, voting.probes.size())) along.push_back(p.position);
+    const Placement walk = evaluate(ps, along, "path");
+    std::printf("alcove: reach %.2f, voting %zu probes coverage %.4f; path %zu probes coverage %.4f\n",
+                ps.criterion().maxDistance(), voting.probes.size(), voting.coverage, walk.probes.size(),
+                walk.coverage);
+
+    EXPECT_GE(voting.coverage, s.target);
+    EXPECT_LT(walk.coverage, voting.coverage);
+    auto backWall = [](const SurfaceSample& smp) {
+        return smp.position.z > kAlcBack - 1e-3f && smp.normal.z < -0.5f;
+    };
+    auto alcove = [](const SurfaceSample& smp) { return smp.position.z > kRoomD + 1e-3f; };
+    const auto [backArea, backByVoting] = coveredArea(ps, positionsOf(voting), backWall);
+    const auto [backArea2, backByPath] = coveredArea(ps, along, backWall);
+    const auto [alcoveArea, alcoveByVoting] = coveredArea(ps, positionsOf(voting), alcove);
+    const auto [alcoveArea2, alcoveByPath] = coveredArea(ps, along, alcove);
+    std::printf("alcove: back wall relevant %.3f, voting %.3f, path %.3f; alcove relevant %.3f, voting %.3f, "
+                "path %.3f\n", backArea, backByVoting, backByPath, alcoveArea, alcoveByVoting, alcoveByPath);
+    ASSERT_GT(backArea, 0.0) << "the frame looking in must make the back wall relevant";
+    EXPECT_GE(backByVoting / backArea, s.target);
+    EXPECT_EQ(backByPath, 0.0);
+    EXPECT_GE(alcoveByVoting / alcoveArea, s.target);
+    EXPECT_LT(alcoveByPath, alcoveByVoting);
+}
+
+// ---- A closed box in a room ---------------------------------------------------------------------
+
+TEST(Placement, ClosedBoxInsideIsNotRelevant) {
+    const glm::vec3 boxLo(2.0f, 0.0f, 2.0f), boxHi(3.5f, 1.2f, 3.5f);
+    MeshBuilder b;
+    b.addBox({0, 0, 0}, {6, 3, 6}, /*inward=*/true);
+    b.addBox(boxLo, boxHi, /*inward=*/false, /*bottom=*/true);
+    const Scene scene = finish(b, "test:box-in-room");
+    const PlaceSettings s = coarse(scene, 0.99);
+    const PlacementScene ps(scene, s, nullptr);
+
+    // A sample stands for the side its normal points to: just off the surface on that side.
+    std::size_t insideRelevant = 0, insideAll = 0;
+    for (std::size_t i = 0; i < ps.samples().size(); ++i) {
+        const SurfaceSample& smp = ps.samples()[i];
+        const glm::vec3 side = smp.position + 1e-3f * smp.normal;
+        if (!(glm::all(glm::greaterThan(side, boxLo)) && glm::all(glm::lessThan(side, boxHi)))) continue;
+        ++insideAll;
+        if (ps.relevant()[i]) ++insideRelevant;
+    }
+    EXPECT_GT(insideAll, 50u);  // the box's inner faces and the floor under it are sampled
+    EXPECT_EQ(insideRelevant, 0u);
+
+    const Placement voting = placeVoting(ps);
+    std::printf("box in room: %zu inner samples, voting %zu probes coverage %.4f\n", insideAll,
+                voting.probes.size(), voting.coverage);
+    EXPECT_GE(voting.coverage, 0.99);
+    for (const PlacedProbe& p : voting.probes) EXPECT_FALSE(inBox(p.position, boxLo, boxHi));
+}
+
+// ---- Monotone coverage, budget, determinism -----------------------------------------------------
+
+TEST(Placement, CoverageGrowsBudgetHoldsSameSeedSameProbes) {
+    const Scene scene = twoRooms();
+    const PlaceSettings s = coarse(scene, 0.95);
+    const PlacementScene ps(scene, s, nullptr);
+    const Placement voting = placeVoting(ps);
+    ASSERT_GE(voting.probes.size(), 2u);
+    for (const PlacedProbe& p : voting.probes) {
+        EXPECT_GE(p.gain, 0.0);
+        EXPECT_GE(p.gain2, 0.0);
+    }
+    const std::vector<glm::vec3> all = positionsOf(voting);
+    double last = 0.0;
+    for (std::size_t k = 0; k <= all.size(); ++k) {
+        const Placement prefix = evaluate(ps, std::vector<glm::vec3>(all.begin(), all.begin() + std::ptrdiff_t(k)),
+                                          "prefix");
+        EXPECT_GE(prefix.coverage, last) << k << " probes";
+        last = prefix.coverage;
+    }
+    EXPECT_DOUBLE_EQ(last, voting.coverage);
+
+    PlaceSettings budget = s;
+    budget.budget = 2;
+    budget.target = 1.0;
+    const PlacementScene ps2(scene, budget, nullptr);
+    const Placement limited = placeVoting(ps2);
+    EXPECT_LE(limited.probes.size(), 2u);
+    EXPECT_GE(limited.probes.size(), 1u);
+    const Placement limitedGrid = placeGrid(ps2);
+    EXPECT_LE(limitedGrid.probes.size(), 2u);
+
+    // Same seed, same probes, bit for bit (a second scene of its own: nothing cached is shared).
+    const PlacementScene again(scene, s, nullptr);
+    const Placement repeat = placeVoting(again);
+    ASSERT_EQ(repeat.probes.size(), voting.probes.size());
+    for (std::size_t k = 0; k < all.size(); ++k) {
+        EXPECT_EQ(std::memcmp(&repeat.probes[k].position, &voting.probes[k].position, sizeof(glm::vec3)), 0) << k;
+        EXPECT_EQ(repeat.probes[k].gain, voting.probes[k].gain) << k;
+    }
+    EXPECT_EQ(repeat.coverage, voting.coverage);
+    EXPECT_EQ(repeat.coverage2, voting.coverage2);
+}
+
+// ---- Coverage feedback on a builtin scene -------------------------------------------------------
+
+TEST(Placement, CoverageFeedbackReachesTargetOnBoxRoom) {
+    const Scene scene = loadScene("builtin:box-room");
+    const CameraPath path = resolveCameraPath("", "builtin:box-room");
+    ASSERT_FALSE(path.frames.empty());
+    PlaceSettings s = coarse(scene, 0.95);
+    s.res = 128;
+    s.texelsPerRadius = 4.0f;
+    const PlacementScene ps(scene, s, &path);
+    const Placement r = placeCoverage(ps, path);
+    std::printf("box-room feedback: reach %.2f, %zu probes, coverage %.4f\n", ps.criterion().maxDistance(),
+                r.probes.size(), r.coverage);
+    ASSERT_FALSE(r.probes.empty());
+    EXPECT_GE(r.coverage, s.target);
+}
+
+}  // namespace
+}  // namespace cubeao::placement
