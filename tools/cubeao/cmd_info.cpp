@@ -2,6 +2,8 @@
 // repaired; for a probe cache (DESIGN.md §5: recognised by its .cubeao extension or its magic), the
 // probes, resolutions and bake parameters, and with --verify every checksum (exit 1 on any damage).
 #include <array>
+#include <cmath>
+#include <limits>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +12,9 @@
 #include "cubeao/bake/bake_settings.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/core/error.h"
+#include "cubeao/bake/probe_set.h"
+#include "cubeao/core/sampling.h"
+#include "cubeao/reference/embree_scene.h"
 #include "cubeao/scene/import.h"
 
 namespace cubeao::cli {
@@ -18,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct InfoArgs {
-    std::string target;
+    std::string target, probes;
     bool verify = false, json = false;
 };
 
@@ -31,6 +36,42 @@ bool isCache(const std::string& target) {
     std::ifstream in(p, std::ios::binary);
     in.read(head.data(), head.size());
     return in.gcount() == 8 && std::string(head.data(), 8) == "\x89" "CUBEAO\n";
+}
+
+// `info SCENE --probes P.json`: where the probes of P stand, checked with Embree alone (none of the
+// placement code): a probe is inside geometry when most of 64 rays from it first meet the back of a
+// face, and the nearest surface along those rays bounds its clearance from above.
+nlohmann::json probeCheck(const Scene& s, const std::string& file) {
+    const std::vector<ProbeSpec> probes = readProbeSet(file);
+    const EmbreeScene embree(s);
+    constexpr int kRays = 64;
+    std::size_t inside = 0, outside = 0;
+    float nearest = std::numeric_limits<float>::infinity();
+    for (std::size_t i = 0; i < probes.size(); ++i) {
+        const glm::vec3 p = probes[i].position;
+        if (glm::any(glm::lessThan(p, s.bounds.min)) || glm::any(glm::greaterThan(p, s.bounds.max))) ++outside;
+        int back = 0;
+        float closest = std::numeric_limits<float>::infinity();
+        for (int k = 0; k < kRays; ++k) {
+            const glm::vec2 u = sampling::rotatedHammersley(std::uint32_t(k), kRays, std::uint32_t(i));
+            const float z = 1.0f - 2.0f * u.x, r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 6.2831853f * u.y;
+            const glm::vec3 d(r * std::cos(phi), r * std::sin(phi), z);
+            const RayHit h = embree.intersect(p, d, 0.0f, std::numeric_limits<float>::infinity());
+            if (!h.hit) continue;
+            closest = std::min(closest, h.t);
+            if (glm::dot(h.normal, d) > 0.0f) ++back;
+        }
+        if (2 * back > kRays) {
+            ++inside;
+            std::printf("  probe %zu at (%g, %g, %g): inside geometry (%d of %d rays meet a back face)\n", i, p.x, p.y,
+                        p.z, back, kRays);
+        }
+        nearest = std::min(nearest, closest);
+    }
+    std::printf("  probes     %zu in %s: %zu inside geometry, %zu outside the box, nearest surface %g\n", probes.size(),
+                file.c_str(), inside, outside, nearest);
+    return {{"file", file}, {"probes", probes.size()}, {"inside", inside}, {"outside_bbox", outside},
+            {"nearest_surface", std::isfinite(nearest) ? nlohmann::json(nearest) : nlohmann::json()}};
 }
 
 void sceneInfo(const InfoArgs& a) {
@@ -47,15 +88,16 @@ void sceneInfo(const InfoArgs& a) {
     if (!s.problems.warnings.empty())
         std::printf("  importer   %zu warnings (first: %s)\n", s.problems.warnings.size(),
                     s.problems.warnings.front().c_str());
-    if (!a.json) return;
-    printJson({{"scene", s.source},
-               {"triangles", s.triangleCount()},
-               {"vertices", s.vertexCount()},
-               {"bbox", {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}}},
-               {"up", {s.up.x, s.up.y, s.up.z}},
-               {"hash", hashToString(s.hash)},
-               {"default_radius", s.defaultRadius()},
-               {"problems", s.problems.toJson()}});
+    nlohmann::json j{{"scene", s.source},
+                     {"triangles", s.triangleCount()},
+                     {"vertices", s.vertexCount()},
+                     {"bbox", {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}}},
+                     {"up", {s.up.x, s.up.y, s.up.z}},
+                     {"hash", hashToString(s.hash)},
+                     {"default_radius", s.defaultRadius()},
+                     {"problems", s.problems.toJson()}};
+    if (!a.probes.empty()) j["probe_check"] = probeCheck(s, a.probes);
+    if (a.json) printJson(j);
 }
 
 void cacheInfo(const InfoArgs& a) {
@@ -111,8 +153,13 @@ void addInfo(CLI::App& app) {
                     "Model file (OBJ/PLY/OFF/STL/IFC/glTF/FBX/3DS/DAE), builtin:NAME, or a .cubeao probe cache")
         ->required();
     cmd->add_flag("--verify", a->verify, "Cache: check every checksum; exit 1 on any damage");
+    cmd->add_option("--probes", a->probes,
+                    "Scene: check a probes.json against it (probes inside geometry, nearest surface; Embree)");
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
-    cmd->callback([a] { isCache(a->target) ? cacheInfo(*a) : sceneInfo(*a); });
+    cmd->callback([a] {
+        if (isCache(a->target) && !a->probes.empty()) throw UsageError("--probes checks a probe set against a scene");
+        isCache(a->target) ? cacheInfo(*a) : sceneInfo(*a);
+    });
 }
 
 }  // namespace cubeao::cli
