@@ -7,12 +7,17 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "common/coverage.h"
 #include "cubeao/core/sampling.h"
 #include "cubeao/reference/embree_scene.h"
 #include "cubeao/runtime/projection.h"
 #include "cubeao/scene/scene.h"
 
 namespace cubeao::placement {
+
+kernel::CoverageParams CoverageCriterion::kernelParams() const {
+    return {maxArea(), maxDistance(), minFacing, res};
+}
 
 float CoverageCriterion::footprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n) const {
     return float(texelFootprint(probe, x, n, res, minFacing));
@@ -83,10 +88,7 @@ std::vector<std::uint8_t> relevantFromCamera(const EmbreeScene& embree, std::spa
 }
 
 bool probeMayCover(const CoverageCriterion& criterion, const glm::vec3& probe, const SurfaceSample& s) {
-    const glm::vec3 d = probe - s.position;
-    const float maxDistance = criterion.maxDistance();
-    if (glm::dot(d, d) > maxDistance * maxDistance || !(glm::dot(d, s.normal) > 0.0f)) return false;
-    return criterion.footprint(probe, s.position, s.normal) <= criterion.maxArea();
+    return kernel::probeMayCoverPoint(probe, s.position, s.normal, criterion.kernelParams());
 }
 
 bool probeCovers(const EmbreeScene& embree, const CoverageCriterion& criterion, const glm::vec3& probe,

@@ -23,6 +23,10 @@ class EmbreeScene;
 struct Scene;
 }  // namespace cubeao
 
+namespace cubeao::kernel {
+struct CoverageParams;
+}
+
 namespace cubeao::placement {
 
 // The quality threshold of "covered".
@@ -38,6 +42,8 @@ struct CoverageCriterion {
     // The texel area a probe at `probe` gives surface point x with unit normal n (+inf when the side
     // faces away), the quantity compared with maxArea().
     float footprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n) const;
+    // The criterion as the shared kernel (shaders/common/coverage.h) takes it.
+    kernel::CoverageParams kernelParams() const;
 };
 
 struct SurfaceSample {
