@@ -400,3 +400,114 @@ TEST(Placement, CoverageFeedbackReachesTargetOnBoxRoom) {
 
 }  // namespace
 }  // namespace cubeao::placement
+
+// ---- The GPU coverage count against the CPU count ------------------------------------------------
+
+#include <chrono>
+#include <memory>
+#include <span>
+#include <thread>
+
+#include "cubeao/core/error.h"
+#include "cubeao/placement/gpu_coverage.h"
+#include "cubeao/reference/embree_scene.h"
+#include "gl_fixture.h"
+
+namespace cubeao::placement {
+namespace {
+
+class PlacementGl : public GlTest {};
+
+// The CPU count for any probe list: frameCoverage's loop (probeCovers over tracePixels' points).
+double cpuCoverage(const PlacementScene& ps, const FramePixels& pixels, std::span<const glm::vec3> probes) {
+    if (pixels.points.empty()) return 1.0;
+    std::size_t covered = 0;
+    for (const SurfaceSample& s : pixels.points)
+        for (const glm::vec3& p : probes)
+            if (probeCovers(ps.embree(), ps.criterion(), p, s)) {
+                ++covered;
+                break;
+            }
+    return double(covered) / double(pixels.points.size());
+}
+
+// The GPU rasterises primary rays and traces the probe rays through its own BVH; the CPU uses Embree
+// for both. A pixel on a silhouette or a triangle edge may land on a different surface (another
+// depth, another normal), and a ray grazing an edge on the way to a probe may be judged differently:
+// a few pixels in 64 × 36 = 2304, so 2 % (46 pixels) leaves room for those and none for a wrong
+// criterion, which moves whole walls.
+constexpr double kCoverageTolerance = 0.02;
+
+TEST_F(PlacementGl, GpuCountAgreesWithCpuCount) {
+    const Scene scene = loadScene("builtin:box-room");
+    const CameraPath path = resolveCameraPath("", "builtin:box-room");
+    ASSERT_FALSE(path.frames.empty());
+    PlaceSettings s = coarse(scene, 0.95);
+    s.samples = 1500;
+    s.votingRays = 12;
+    s.res = 128;
+    s.texelsPerRadius = 4.0f;
+    const PlacementScene ps(scene, s, &path);
+    // The probes of a coverage-feedback walk, held by the CoverageFeedback whose frameCoverage is the
+    // CPU count.
+    CoverageFeedback feedback(ps, {});
+    for (std::size_t f = 0; f < path.frames.size(); ++f) feedback.addFrame(PinholeCamera(path, f, 64, 36));
+    const std::vector<glm::vec3>& probes = feedback.probes();
+    ASSERT_GE(probes.size(), 2u);
+    const std::span<const glm::vec3> firstOnly(probes.data(), 1);
+
+    GpuCoverageCount gpu(scene, path.nearPlane);
+    const float eps = ps.embree().surfaceEpsilon();
+    int framesWithUncovered = 0;
+    for (std::size_t f = 0; f < path.frames.size(); f += 4) {
+        const PinholeCamera camera(path, f, 64, 36);
+        const FramePixels pixels = tracePixels(ps.embree(), camera);
+        gpu.submit(camera, probes, ps.criterion(), eps);
+        gpu.submit(camera, firstOnly, ps.criterion(), eps);
+        const GpuCoverageCount::Result all = gpu.wait(), first = gpu.wait();
+        const double cpuAll = feedback.frameCoverage(pixels), cpuFirst = cpuCoverage(ps, pixels, firstOnly);
+        std::printf("frame %2zu: pixels cpu %zu gpu %llu; %zu probes cpu %.4f gpu %.4f; first probe cpu %.4f gpu %.4f\n",
+                    f, pixels.points.size(), static_cast<unsigned long long>(all.pixels), probes.size(), cpuAll,
+                    all.coverage(), cpuFirst, first.coverage());
+        EXPECT_EQ(all.pixels, first.pixels) << f;
+        EXPECT_NEAR(double(all.pixels), double(pixels.points.size()), 0.02 * double(pixels.points.size())) << f;
+        EXPECT_NEAR(all.coverage(), cpuAll, kCoverageTolerance) << f;
+        EXPECT_NEAR(first.coverage(), cpuFirst, kCoverageTolerance) << f;
+        if (first.uncovered > 0 && cpuFirst < 1.0) ++framesWithUncovered;
+    }
+    // One probe cannot cover the room: the comparison must have seen uncovered pixels to mean anything.
+    EXPECT_GT(framesWithUncovered, 0);
+}
+
+TEST_F(PlacementGl, GpuCountReturnsEveryTicketInOrder) {
+    const Scene scene = loadScene("builtin:box-room");
+    const CameraPath path = resolveCameraPath("", "builtin:box-room");
+    ASSERT_GE(path.frames.size(), 5u);
+    CoverageCriterion criterion;
+    criterion.res = 128;
+    criterion.maxTexel = 0.05f;
+    const std::vector<glm::vec3> probes = {0.5f * (scene.bounds.min + scene.bounds.max)};
+    GpuCoverageCount gpu(scene, path.nearPlane);
+    EXPECT_FALSE(gpu.poll().has_value());
+    // Five frames: more than kSlots, so submit() also waits for the oldest and keeps its result.
+    std::vector<std::uint64_t> tickets;
+    for (std::size_t f = 0; f < 5; ++f)
+        tickets.push_back(gpu.submit(PinholeCamera(path, f, 64, 36), probes, criterion, 1e-4f));
+    for (std::size_t k = 0; k < tickets.size(); ++k) EXPECT_EQ(tickets[k], std::uint64_t(k));
+    EXPECT_EQ(gpu.pending(), tickets.size());
+    // poll() alone must return them all (submit flushes, so every fence signals without a wait);
+    // 10 s is far beyond five 64 × 36 frames on llvmpipe.
+    std::vector<std::uint64_t> returned;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (gpu.pending() > 0 && std::chrono::steady_clock::now() < deadline)
+        if (const auto r = gpu.poll())
+            returned.push_back(r->ticket);
+        else
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    EXPECT_EQ(returned, tickets);
+    EXPECT_FALSE(gpu.poll().has_value());
+    EXPECT_THROW(gpu.wait(), Error);
+}
+
+}  // namespace
+}  // namespace cubeao::placement

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "common/bvh.h"
+#include "common/placement_layout.h"
 #include "common/runtime_layout.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/shader.h"
@@ -121,8 +123,10 @@ TEST_F(GlTest, BlurAndCompositeShadersMatchTheSharedLayout) {
 TEST(RuntimeLayout, BindingsAreDistinctPerKind) {
     const std::vector<int> units = {k::kGBufferDepthUnit, k::kGBufferNormalUnit, k::kAoInputUnit, k::kProbeAoUnit,
                                     k::kProbeDistanceUnit};
+    // The placement count's buffers and the BVH's share the binding space with the run-time passes.
     const std::vector<int> buffers = {k::kTriangleNormalsBuffer, k::kPassCountersBuffer, k::kProbeTableBuffer,
-                                      k::kCandidateBuffer};
+                                      k::kCandidateBuffer,       k::kCoverageProbeBuffer, k::kCoverageCounterBuffer,
+                                      int(k::kBvhNodeBuffer),    int(k::kBvhTriangleBuffer)};
     for (const auto* list : {&units, &buffers})
         for (std::size_t i = 0; i < list->size(); ++i)
             for (std::size_t j = i + 1; j < list->size(); ++j) EXPECT_NE((*list)[i], (*list)[j]) << i << " vs " << j;

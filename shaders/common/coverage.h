@@ -2,13 +2,13 @@
 // once for the CPU count (placement/src/coverage.cpp) and the GPU count
 // (shaders/placement/coverage_count.comp): whether a probe may cover a surface point, i.e. the point
 // is in range, its seen side faces the probe, and the probe texel that sees it spans at most maxArea
-// on the surface: the projection's own texel area (projection.h probeTexelArea). The visibility ray
+// on the surface: the projection's own texel area (texel_area.h probeTexelArea). The visibility ray
 // is the caller's (Embree on the CPU, the BVH kernel on the GPU).
 #pragma once
 
 #include "cube.h"
 #include "glsl_cpp.h"
-#include "projection.h"
+#include "texel_area.h"
 
 CUBEAO_KERNEL_BEGIN
 

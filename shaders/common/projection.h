@@ -18,6 +18,7 @@
 #include "depth_test.h"
 #include "glsl_cpp.h"
 #include "runtime_layout.h"
+#include "texel_area.h"
 
 #ifdef __cplusplus
 #define CUBEAO_READER_FN template <class Reader> inline
@@ -46,13 +47,6 @@ struct ProjectionParams {
 CUBEAO_FN bool probeSeesPoint(float stored, float distance, float cosine, ProjectionParams p) {
     if (!(cosine > 0.0f) || !(stored > 0.0f)) return false;
     return depthWithinBias(stored, distance, cosine, p.depthTolerance, p.depthSlope, p.depthRes);
-}
-
-// World area of the probe texel at face point sc on a surface at `distance` seen at cos θ = facing > 0:
-// solid angle (2/res)² / (1 + u² + v²)^{3/2} times distance² / max(cos θ, minFacing).
-CUBEAO_FN float probeTexelArea(vec2 sc, float distance, float facing, int res, float minFacing) {
-    float r2 = 1.0f + dot(sc, sc), texel = 2.0f / float(res);
-    return texel * texel / (r2 * sqrt(r2)) * distance * distance / max(facing, minFacing);
 }
 
 // AO at a point and how many probes gave it: 0 (nobody saw the point: ao = 1, open, the caller's
