@@ -509,5 +509,34 @@ TEST_F(PlacementGl, GpuCountReturnsEveryTicketInOrder) {
     EXPECT_THROW(gpu.wait(), Error);
 }
 
+// The walk with the counts on the GPU (what `place --method coverage` does by default) places the
+// same probes as the CPU walk: a frame the GPU finds covered is skipped without tracing, one below
+// the target is traced and voted on as on the CPU, and the two counts agree (test above).
+TEST_F(PlacementGl, CoverageFeedbackWithGpuCountPlacesTheSameProbes) {
+    const Scene scene = loadScene("builtin:box-room");
+    const CameraPath path = resolveCameraPath("", "builtin:box-room");
+    PlaceSettings s = coarse(scene, 0.95);
+    s.samples = 1500;
+    s.votingRays = 12;
+    s.res = 128;
+    s.texelsPerRadius = 4.0f;
+    const PlacementScene ps(scene, s, &path);
+    const Placement cpu = placeCoverage(ps, path);
+    GpuCoverageCount gpu(scene, path.nearPlane);
+    const Placement onGpu = placeCoverage(ps, path, {}, nullptr, &gpu);
+    ASSERT_EQ(onGpu.probes.size(), cpu.probes.size());
+    for (std::size_t k = 0; k < cpu.probes.size(); ++k)
+        EXPECT_EQ(onGpu.probes[k].position, cpu.probes[k].position) << k;
+    EXPECT_EQ(onGpu.coverage, cpu.coverage);
+    double traced = -1.0, frames = -1.0;
+    for (const auto& [name, value] : onGpu.figures) {
+        if (name == "frames_traced_on_cpu") traced = value;
+        if (name == "frames") frames = value;
+    }
+    EXPECT_GT(frames, 0.0);
+    EXPECT_GE(traced, 1.0);      // the first frames need probes
+    EXPECT_LT(traced, frames);  // and the covered ones were never traced
+}
+
 }  // namespace
 }  // namespace cubeao::placement

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
@@ -9,6 +10,7 @@
 
 #include "cubeao/core/progress.h"
 #include "cubeao/core/stopwatch.h"
+#include "cubeao/placement/gpu_coverage.h"
 #include "cubeao/reference/embree_scene.h"
 #include "votes.h"
 
@@ -59,6 +61,7 @@ double CoverageFeedback::frameCoverage(const FramePixels& pixels) const {
 }
 
 CoverageFeedback::FrameResult CoverageFeedback::addFrame(const PinholeCamera& camera) {
+    ++framesTraced_;
     const FramePixels pixels = tracePixels(ps_.embree(), camera);
     FrameResult r;
     if (pixels.points.empty()) return r;
@@ -97,18 +100,55 @@ CoverageFeedback::FrameResult CoverageFeedback::addFrame(const PinholeCamera& ca
     return r;
 }
 
+CoverageFeedback::FrameResult CoverageFeedback::handleCount(const PinholeCamera& camera, double gpuCoverage) {
+    if (gpuCoverage >= ps_.settings().target) return {gpuCoverage, gpuCoverage, 0};
+    FrameResult r = addFrame(camera);
+    r.before = std::min(r.before, gpuCoverage);  // probes added since the count can only have helped
+    return r;
+}
+
+std::vector<CoverageFeedback::FrameResult> CoverageFeedback::addFrame(const PinholeCamera& camera,
+                                                                      GpuCoverageCount& gpu) {
+    gpu.submit(camera, probes_, ps_.criterion(), ps_.embree().surfaceEpsilon());
+    inFlight_.push_back(camera);
+    std::vector<FrameResult> handled;
+    while (const std::optional<GpuCoverageCount::Result> r = gpu.poll()) {
+        handled.push_back(handleCount(inFlight_.front(), r->coverage()));
+        inFlight_.pop_front();
+    }
+    return handled;
+}
+
+std::vector<CoverageFeedback::FrameResult> CoverageFeedback::drain(GpuCoverageCount& gpu) {
+    std::vector<FrameResult> handled;
+    while (!inFlight_.empty()) {
+        const GpuCoverageCount::Result r = gpu.wait();
+        handled.push_back(handleCount(inFlight_.front(), r.coverage()));
+        inFlight_.pop_front();
+    }
+    return handled;
+}
+
 Placement placeCoverage(const PlacementScene& ps, const CameraPath& path, FeedbackSettings settings,
-                        Progress* progress) {
+                        Progress* progress, GpuCoverageCount* gpu) {
     Stopwatch watch;
     CoverageFeedback feedback(ps, settings);
     double before = 0.0, after = 0.0;
-    for (std::size_t f = 0; f < path.frames.size(); ++f) {
-        const CoverageFeedback::FrameResult r =
-            feedback.addFrame(PinholeCamera(path, f, settings.width, settings.height));
+    auto tally = [&](const CoverageFeedback::FrameResult& r) {
         before += r.before;
         after += r.after;
         if (progress) progress->advance();
+    };
+    for (std::size_t f = 0; f < path.frames.size(); ++f) {
+        const PinholeCamera camera(path, f, settings.width, settings.height);
+        if (!gpu) {
+            tally(feedback.addFrame(camera));
+            continue;
+        }
+        for (const auto& r : feedback.addFrame(camera, *gpu)) tally(r);
     }
+    if (gpu)
+        for (const auto& r : feedback.drain(*gpu)) tally(r);
     const double walkSeconds = watch.restart();
     Placement result = evaluate(ps, feedback.probes(), "coverage");
     result.timings.emplace(result.timings.end() - 1, "walk", walkSeconds);
@@ -116,7 +156,9 @@ Placement placeCoverage(const PlacementScene& ps, const CameraPath& path, Feedba
     result.figures = {{"frames", double(path.frames.size())},
                       {"frame_coverage_before", before / frames},
                       {"frame_coverage_after", after / frames},
-                      {"pixels_per_frame", double(settings.width * settings.height)}};
+                      {"pixels_per_frame", double(settings.width * settings.height)},
+                      {"frames_traced_on_cpu", double(feedback.framesTraced())},
+                      {"gpu_count", gpu ? 1.0 : 0.0}};
     return result;
 }
 

@@ -10,7 +10,9 @@
 #include "cubeao/bake/probe_set.h"
 #include "cubeao/core/error.h"
 #include "cubeao/core/progress.h"
+#include "cubeao/gl/context.h"
 #include "cubeao/placement/coverage_feedback.h"
+#include "cubeao/placement/gpu_coverage.h"
 #include "cubeao/placement/placement.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/import.h"
@@ -19,7 +21,7 @@ namespace cubeao::cli {
 namespace {
 
 struct PlaceArgs {
-    std::string scene, camera, out, method = "voting";
+    std::string scene, camera, out, method = "voting", device = "gpu";
     placement::PlaceSettings settings;
     bool json = false;
 };
@@ -32,6 +34,7 @@ double peakMemoryMb() {
 
 void run(PlaceArgs a) {
     const std::string& m = a.method;
+    if (a.device != "gpu" && a.device != "cpu") throw UsageError("--device \"" + a.device + "\": expected gpu or cpu");
     if (m != "voting" && m != "coverage" && m != "grid" && m != "path")
         throw UsageError("--method \"" + m + "\": expected voting, coverage, grid or path");
     if (m == "path" && a.settings.budget == 0)
@@ -53,8 +56,23 @@ void run(PlaceArgs a) {
         Progress progress("place grid", 0);
         result = placement::placeGrid(ps, &progress);
     } else if (m == "coverage") {
+        // The frame counts run on the GPU when a GL 4.5 context can be made (asynchronously: frames
+        // are handled as their counts come back); otherwise, or with --device cpu, every frame is
+        // traced with Embree. Same probes either way up to pixels at silhouettes.
+        std::optional<gl::HeadlessContext> context;
+        std::unique_ptr<placement::GpuCoverageCount> gpu;
+        if (a.device == "gpu") {
+            std::string whyNot;
+            context = gl::HeadlessContext::tryCreate(&whyNot);
+            if (context) {
+                context->makeCurrent();
+                gpu = std::make_unique<placement::GpuCoverageCount>(scene, path->nearPlane);
+            } else {
+                std::printf("place: no OpenGL 4.5 context (%s): counting frames on the CPU\n", whyNot.c_str());
+            }
+        }
         Progress progress("place coverage", path->frames.size());
-        result = placement::placeCoverage(ps, *path, {}, &progress);
+        result = placement::placeCoverage(ps, *path, {}, &progress, gpu.get());
     } else {
         std::vector<glm::vec3> positions;
         for (const ProbeSpec& p : probesAlongPath(*path, std::size_t(a.settings.budget))) positions.push_back(p.position);
@@ -126,6 +144,9 @@ void addPlace(CLI::App& app) {
     cmd->add_option("--samples", s.samples, "Surface points (two sides each)")->capture_default_str();
     cmd->add_option("--rays", s.votingRays, "Voting rays per surface sample")->capture_default_str();
     cmd->add_option("--seed", s.seed, "Seed of the samples and rays")->capture_default_str();
+    cmd->add_option("--device", a->device,
+                    "coverage: count each frame's uncovered pixels on the gpu (falls back to cpu without GL) or cpu")
+        ->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
     cmd->callback([a] { run(*a); });
 }

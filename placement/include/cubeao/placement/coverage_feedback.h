@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -14,6 +15,8 @@
 #include "cubeao/placement/placement.h"
 
 namespace cubeao::placement {
+
+class GpuCoverageCount;
 
 struct FeedbackSettings {
     int width = 64, height = 36;  // pixels per frame the coverage is counted at
@@ -38,6 +41,15 @@ public:
     };
     FrameResult addFrame(const PinholeCamera& camera);
 
+    // The same with the count on the GPU (gpu_coverage.h), as the viewer runs it: queues this frame's
+    // count and returns at once with the frames whose counts have come back meanwhile (earlier ones,
+    // in order). Only a frame the GPU finds below the target is traced on the CPU, where its
+    // uncovered pixels vote as in addFrame; probes added since its count are taken into account.
+    std::vector<FrameResult> addFrame(const PinholeCamera& camera, GpuCoverageCount& gpu);
+    // Waits for the counts still in flight and handles them (the end of a walk).
+    std::vector<FrameResult> drain(GpuCoverageCount& gpu);
+    std::size_t framesTraced() const { return framesTraced_; }
+
     // Covered share of the pixels (1 when none shows a surface) with the current probes: the count the
     // GPU count is checked against.
     double frameCoverage(const FramePixels& pixels) const;
@@ -48,12 +60,16 @@ private:
 
     const PlacementScene& ps_;
     FeedbackSettings settings_;
+    FrameResult handleCount(const PinholeCamera& camera, double gpuCoverage);
+
     std::vector<glm::vec3> probes_;
+    std::deque<PinholeCamera> inFlight_;  // cameras of the GPU counts not yet handled, oldest first
+    std::size_t framesTraced_ = 0;
 };
 
 // Runs CoverageFeedback over every frame of `path` (at settings' resolution) and reports the probes
-// with coverage.h's definition.
+// with coverage.h's definition. With `gpu` the frames are counted there (a current GL context needed).
 Placement placeCoverage(const PlacementScene& ps, const CameraPath& path, FeedbackSettings settings = {},
-                        Progress* progress = nullptr);
+                        Progress* progress = nullptr, GpuCoverageCount* gpu = nullptr);
 
 }  // namespace cubeao::placement

@@ -37,7 +37,7 @@ namespace cubeao::placement {
 struct PlaceSettings {
     float radius = 0.0f;           // AO radius; 0 → the scene's default (2 % of the diagonal)
     int res = 512;                 // the bake's face size the criterion assumes
-    float texelsPerRadius = 8.0f;  // covered: one texel spans at most radius / texelsPerRadius
+    float texelsPerRadius = 16.0f;  // covered: one texel spans at most radius / texelsPerRadius
     float voxel = 0.0f;            // candidate voxel edge; 0 → about 150 000 voxels in the box
     float clearance = 0.0f;        // 0 → half a voxel
     std::size_t samples = 12000;   // surface points (two samples each)
