@@ -383,13 +383,27 @@ TEST(Placement, CoverageGrowsBudgetHoldsSameSeedSameProbes) {
 
 // ---- Coverage feedback on a builtin scene -------------------------------------------------------
 
+// builtin:box-room with its own walk and settings under which a probe covers a few metres.
+struct BoxRoomWalk {
+    Scene scene = loadScene("builtin:box-room");
+    CameraPath path = resolveCameraPath("", "builtin:box-room");
+
+    PlaceSettings settings() const {
+        PlaceSettings s = coarse(scene, 0.95);
+        s.samples = 1500;
+        s.votingRays = 12;
+        s.res = 128;
+        s.texelsPerRadius = 4.0f;
+        return s;
+    }
+};
+
 TEST(Placement, CoverageFeedbackReachesTargetOnBoxRoom) {
-    const Scene scene = loadScene("builtin:box-room");
-    const CameraPath path = resolveCameraPath("", "builtin:box-room");
+    const BoxRoomWalk room;
+    const Scene& scene = room.scene;
+    const CameraPath& path = room.path;
     ASSERT_FALSE(path.frames.empty());
-    PlaceSettings s = coarse(scene, 0.95);
-    s.res = 128;
-    s.texelsPerRadius = 4.0f;
+    const PlaceSettings s = room.settings();
     const PlacementScene ps(scene, s, &path);
     const Placement r = placeCoverage(ps, path);
     std::printf("box-room feedback: reach %.2f, %zu probes, coverage %.4f\n", ps.criterion().maxDistance(),
@@ -439,14 +453,11 @@ double cpuCoverage(const PlacementScene& ps, const FramePixels& pixels, std::spa
 constexpr double kCoverageTolerance = 0.02;
 
 TEST_F(PlacementGl, GpuCountAgreesWithCpuCount) {
-    const Scene scene = loadScene("builtin:box-room");
-    const CameraPath path = resolveCameraPath("", "builtin:box-room");
+    const BoxRoomWalk room;
+    const Scene& scene = room.scene;
+    const CameraPath& path = room.path;
     ASSERT_FALSE(path.frames.empty());
-    PlaceSettings s = coarse(scene, 0.95);
-    s.samples = 1500;
-    s.votingRays = 12;
-    s.res = 128;
-    s.texelsPerRadius = 4.0f;
+    const PlaceSettings s = room.settings();
     const PlacementScene ps(scene, s, &path);
     // The probes of a coverage-feedback walk, held by the CoverageFeedback whose frameCoverage is the
     // CPU count.
@@ -513,13 +524,11 @@ TEST_F(PlacementGl, GpuCountReturnsEveryTicketInOrder) {
 // same probes as the CPU walk: a frame the GPU finds covered is skipped without tracing, one below
 // the target is traced and voted on as on the CPU, and the two counts agree (test above).
 TEST_F(PlacementGl, CoverageFeedbackWithGpuCountPlacesTheSameProbes) {
-    const Scene scene = loadScene("builtin:box-room");
-    const CameraPath path = resolveCameraPath("", "builtin:box-room");
-    PlaceSettings s = coarse(scene, 0.95);
-    s.samples = 1500;
-    s.votingRays = 12;
-    s.res = 128;
-    s.texelsPerRadius = 4.0f;
+    const BoxRoomWalk room;
+    const Scene& scene = room.scene;
+    const CameraPath& path = room.path;
+    ASSERT_FALSE(path.frames.empty());
+    const PlaceSettings s = room.settings();
     const PlacementScene ps(scene, s, &path);
     const Placement cpu = placeCoverage(ps, path);
     GpuCoverageCount gpu(scene, path.nearPlane);
