@@ -477,7 +477,8 @@ TEST_F(PlacementGl, GpuCountAgreesWithCpuCount) {
         gpu.submit(camera, firstOnly, ps.criterion(), eps);
         const GpuCoverageCount::Result all = gpu.wait(), first = gpu.wait();
         const double cpuAll = feedback.frameCoverage(pixels), cpuFirst = cpuCoverage(ps, pixels, firstOnly);
-        std::printf("frame %2zu: pixels cpu %zu gpu %llu; %zu probes cpu %.4f gpu %.4f; first probe cpu %.4f gpu %.4f\n",
+        std::printf("frame %2zu: pixels cpu %zu gpu %llu; %zu probes cpu %.4f gpu %.4f; "
+                    "first probe cpu %.4f gpu %.4f\n",
                     f, pixels.points.size(), static_cast<unsigned long long>(all.pixels), probes.size(), cpuAll,
                     all.coverage(), cpuFirst, first.coverage());
         EXPECT_EQ(all.pixels, first.pixels) << f;

@@ -1,9 +1,9 @@
 #!/bin/bash
 # README command 1: the main job end to end on a built-in scene (default builtin:cloister).
 # Installs what is missing, builds, then:
-#   info → place probes (normal voting; covering what the camera path sees when one is given) → bake them into probe caches (traced, and
-#   horizon-split for comparison; GPU path, llvmpipe here) with the Embree twin checking every texel,
-#   and every checksum of each cache checked (info --verify) → render the camera path from the probes
+#   info → place probes (normal voting over what the camera path sees) → bake them into probe caches
+#   (traced, and horizon-split for comparison; GPU path, llvmpipe here) with the Embree twin checking
+#   every texel, and every checksum of each cache checked (info --verify) → render the camera path from the probes
 #   and with the screen-space baselines (gtao, hbao, alchemy) → reference AO of the same path (Embree,
 #   the ground truth) → compare each against it → a table, report.json and pictures.
 # Environment: CUBEAO_DEMO_SCENE (default builtin:cloister), CUBEAO_DEMO_CAMERA (camera path JSON;
@@ -47,7 +47,10 @@ echo "== scene"
 "$bin" info "$scene" --json | tee "$out/info.log" | tail -1 >"$out/info.json"
 sed '$d' "$out/info.log"
 echo "== place: at most $nprobes probes ($place)"
-"$bin" place "$scene" --method "$place" ${CUBEAO_DEMO_CAMERA:+--camera "$CUBEAO_DEMO_CAMERA"} --budget "$nprobes" \
+# The probes cover what the walk sees: its camera file, or a built-in scene's own path.
+place_camera=${CUBEAO_DEMO_CAMERA:-}
+[ -z "$place_camera" ] && [[ "$scene" == builtin:* ]] && place_camera=$scene
+"$bin" place "$scene" --method "$place" ${place_camera:+--camera "$place_camera"} --budget "$nprobes" \
     --res "$res" --out "$out/probes.json"
 for est in traced hsplit; do
   var=CUBEAO_DEMO_DEVICE_${est^^}

@@ -69,7 +69,8 @@ CoverageFeedback::FrameResult CoverageFeedback::addFrame(const PinholeCamera& ca
     auto share = [&] { return double(std::count(covered.begin(), covered.end(), 1)) / double(covered.size()); };
     r.before = r.after = share();
     const PlaceSettings& settings = ps_.settings();
-    const std::size_t budget = settings.budget > 0 ? std::size_t(settings.budget) : std::numeric_limits<std::size_t>::max();
+    const std::size_t budget =
+        settings.budget > 0 ? std::size_t(settings.budget) : std::numeric_limits<std::size_t>::max();
     while (r.after < settings.target && r.added < settings_.maxPerFrame && probes_.size() < budget) {
         // The uncovered pixels vote: the candidate most of them would see at a small enough texel.
         std::vector<std::uint8_t> uncovered(covered.size());

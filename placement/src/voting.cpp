@@ -71,7 +71,8 @@ PlacementScene::Votes castVotes(const EmbreeScene& embree, const FreeSpace& spac
                     return true;
                 });
             }
-            std::sort(votes.begin(), votes.end(), [](const Vote& a, const Vote& b) { return a.candidate < b.candidate; });
+            std::sort(votes.begin(), votes.end(),
+                      [](const Vote& a, const Vote& b) { return a.candidate < b.candidate; });
             votes.erase(std::unique(votes.begin(), votes.end(),
                                     [](const Vote& a, const Vote& b) { return a.candidate == b.candidate; }),
                         votes.end());

@@ -75,7 +75,8 @@ void run(PlaceArgs a) {
         result = placement::placeCoverage(ps, *path, {}, &progress, gpu.get());
     } else {
         std::vector<glm::vec3> positions;
-        for (const ProbeSpec& p : probesAlongPath(*path, std::size_t(a.settings.budget))) positions.push_back(p.position);
+        for (const ProbeSpec& p : probesAlongPath(*path, std::size_t(a.settings.budget)))
+            positions.push_back(p.position);
         result = placement::evaluate(ps, positions, "path");
     }
     if (result.probes.empty())
@@ -84,7 +85,6 @@ void run(PlaceArgs a) {
                     " relevant samples): is the scene open on every side, or --voxel/--clearance too large?");
 
     std::vector<ProbeSpec> probes;
-    nlohmann::json gains = nlohmann::json::array();
     for (const placement::PlacedProbe& p : result.probes) probes.push_back({p.position, p.gain});
     nlohmann::json timings = nlohmann::json::object(), figures = nlohmann::json::object();
     for (const auto& [stage, seconds] : result.timings) timings[stage] = seconds;
@@ -93,7 +93,7 @@ void run(PlaceArgs a) {
     const nlohmann::json report{
         {"method", m},
         {"params", ps.settings().toJson()},
-        {"camera", a.camera},
+        {"camera", path ? nlohmann::json(a.camera.empty() ? a.scene : a.camera) : nlohmann::json()},  // null: none
         {"coverage", result.coverage},
         {"coverage2", result.coverage2},
         {"relevant_area", result.relevantArea},
