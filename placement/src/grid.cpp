@@ -20,6 +20,7 @@ namespace {
 // Finer lattices than this are not tried: a grid that needs more probes has lost the comparison.
 constexpr std::size_t kMaxGridProbes = 6000;
 constexpr int kBisections = 10;
+constexpr int kBudgetTrials = 8;  // spacings tried on each side of the finest lattice within a budget
 
 struct GridTrial {
     float spacing = 0.0f;
@@ -139,6 +140,19 @@ Placement placeGrid(const PlacementScene& ps, Progress* progress) {
             }
         }
         best = measured(std::move(within));
+        // The count is not monotonic in the spacing (lattice points fall in and out of walls), so the
+        // finest lattice within the budget may use far less of it: spacings around it are tried too,
+        // and the one that covers most within the budget is kept.
+        const float around = best.spacing;
+        for (int k = -kBudgetTrials; k <= kBudgetTrials; ++k) {
+            if (k == 0) continue;
+            const float spacing = around * std::pow(1.5f, float(k) / float(kBudgetTrials));
+            if (spacing < finest) continue;
+            GridTrial t = lattice(spacing);
+            if (t.probes.size() > std::size_t(settings.budget)) continue;
+            t = measured(std::move(t));
+            if (t.coverage > best.coverage) best = std::move(t);
+        }
     }
     // The coarsest lattice that reaches the target: halve until it does, then bisect.
     if (settings.budget == 0 || best.coverage >= settings.target) {
