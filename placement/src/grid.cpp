@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <set>
+#include <tuple>
 
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
@@ -97,11 +99,11 @@ std::vector<glm::vec3> gridProbes(const PlacementScene& ps, float spacing) {
                     }
         }
     });
+    // Two lattice points may move to one voxel centre: keep it once (the bake refuses duplicates).
     std::vector<glm::vec3> probes;
+    std::set<std::tuple<float, float, float>> seen;
     for (std::size_t i = 0; i < total; ++i)
-        if (ok[i] && std::find(probes.end() - std::min<std::ptrdiff_t>(std::ptrdiff_t(probes.size()), 4), probes.end(),
-                               placed[i]) == probes.end())
-            probes.push_back(placed[i]);
+        if (ok[i] && seen.insert({placed[i].x, placed[i].y, placed[i].z}).second) probes.push_back(placed[i]);
     return probes;
 }
 

@@ -1,4 +1,6 @@
 #include <cmath>
+#include <set>
+#include <tuple>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -84,6 +86,12 @@ Placement evaluate(const PlacementScene& ps, const std::vector<glm::vec3>& probe
     Stopwatch watch;
     Placement result;
     result.method = std::move(method);
+    // The bake refuses two probes at one position; every method must give distinct ones.
+    std::set<std::tuple<float, float, float>> seen;
+    for (const glm::vec3& p : probes)
+        if (!seen.insert({p.x, p.y, p.z}).second)
+            throw Error("placement (" + result.method + "): two probes at (" + std::to_string(p.x) + ", " +
+                        std::to_string(p.y) + ", " + std::to_string(p.z) + ")");
     CoverageCounts counts(ps.samples(), ps.relevant());
     for (const glm::vec3& p : probes) {
         const std::vector<std::uint32_t> covered = ps.covered(p);

@@ -194,6 +194,9 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     // the most (first coverage, plus half of second coverage) given all other probes.
     const VoxelGrid& grid = ps.freeSpace().grid();
     std::size_t moves = 0;
+    // Two probes never share a voxel (the bake refuses a probe set with two at one position).
+    std::vector<std::uint8_t> taken(candidates, 0);
+    for (const Chosen& c : chosen) taken[c.candidate] = 1;
     for (Chosen& probe : chosen) {
         counts.remove(probe.covered);
         double best = counts.gain(probe.covered) + kSecondWeight * counts.gain2(probe.covered);
@@ -203,13 +206,15 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
             const glm::ivec3 n = cell + glm::ivec3(step[0], step[1], step[2]);
             if (!grid.contains(n)) continue;
             const std::int32_t candidate = ps.freeSpace().candidateOf(grid.index(n));
-            if (candidate < 0) continue;
+            if (candidate < 0 || taken[std::size_t(candidate)]) continue;
             const glm::vec3 position = ps.freeSpace().candidatePosition(std::size_t(candidate));
             std::vector<std::uint32_t> covered = ps.covered(position);
             ++evaluations;
             const double g = counts.gain(covered) + kSecondWeight * counts.gain2(covered);
             if (g > best) {
                 best = g;
+                taken[probe.candidate] = 0;
+                taken[std::size_t(candidate)] = 1;
                 probe = {std::size_t(candidate), position, std::move(covered)};
                 ++moves;
             }
