@@ -36,13 +36,15 @@ rows=$out/rows.jsonl
 place() {
   local name=$1 scene=$2
   shift 2
-  local json
-  json=$(/usr/bin/time -f '%e' -o "$out/$name.time" "$bin" place "$scene" --res "$res" --out "$out/$name.json" --json "$@" | tail -1)
+  local start end json
+  start=$(date +%s%N)
+  json=$("$bin" place "$scene" --res "$res" --out "$out/$name.json" --json "$@" | tail -1)
+  end=$(date +%s%N)
   local check
   check=$("$bin" info "$scene" --probes "$out/$name.json" --json | tail -1)
-  python3 - "$name" "$json" "$check" "$(cat "$out/$name.time")" >>"$rows" <<'PY'
+  python3 - "$name" "$json" "$check" "$((end - start))" >>"$rows" <<'PY'
 import json, sys
-name, place, check, seconds = sys.argv[1], json.loads(sys.argv[2]), json.loads(sys.argv[3]), float(sys.argv[4])
+name, place, check, seconds = sys.argv[1], json.loads(sys.argv[2]), json.loads(sys.argv[3]), int(sys.argv[4]) * 1e-9
 print(json.dumps({"name": name, "kind": "place", "place": place, "check": check["probe_check"], "seconds": seconds}))
 PY
 }
@@ -68,15 +70,7 @@ for which in "$@"; do
   fi
   if [[ " $parts " == *" walks "* ]]; then
     ref=out/place-walks/$which/reference
-    if ! python3 - "$ref/reference.json" "$size" "$spp" <<'PY'
-import json, sys
-try:
-    r = json.load(open(sys.argv[1]))
-except (OSError, ValueError):
-    sys.exit(1)
-sys.exit(0 if f"{r['width']}x{r['height']}" == sys.argv[2] and r["spp"] == int(sys.argv[3]) else 1)
-PY
-    then
+    if ! python3 tools/reference_matches.py "$ref" "$size" "$spp"; then
       echo "== $which: reference, $spp rays per pixel at $size"
       rm -rf "$ref"
       "$bin" reference "$scene" --camera "$walk" --width "${size%x*}" --height "${size#*x}" --spp "$spp" \
@@ -120,11 +114,12 @@ json.dump(rows, open(f"{out}/report.json", "w"), indent=1)
 lines = []
 places = [r for r in rows if r["kind"] == "place"]
 if places:
-    lines += ["| run | probes | coverage | coverage2 | place s | peak MB | inside geometry |", "|---|---|---|---|---|---|---|"]
+    lines += ["| run | probes | coverage | coverage2 | place s | peak MB | inside geometry |",
+              "|---|---|---|---|---|---|---|"]
     for r in places:
         p = r["place"]
-        lines.append(f"| {r['name']} | {p['probes']} | {p['coverage']:.4f} | {p['coverage2']:.4f} | {r['seconds']:.1f} | "
-                     f"{p['peak_memory_mb']:.0f} | {r['check']['inside']} |")
+        lines.append(f"| {r['name']} | {p['probes']} | {p['coverage']:.4f} | {p['coverage2']:.4f} | "
+                     f"{r['seconds']:.1f} | {p['peak_memory_mb']:.0f} | {r['check']['inside']} |")
 walks = [r for r in rows if r["kind"] == "walk"]
 if walks:
     lines += ["", "| scene | method | budget | MAE | worst frame | flicker | SSIM | uncovered |",

@@ -31,15 +31,7 @@ for which in "$@"; do
   [ -f "$scene" ] || { echo "walks.sh: $scene is missing (see ../shared/scenes/README.md)" >&2; exit 1; }
   out=out/walks/$which
   ref=$out/reference
-  if ! python3 - "$ref/reference.json" "$size" "$spp" <<'PY'
-import json, sys
-try:
-    r = json.load(open(sys.argv[1]))
-except (OSError, ValueError):
-    sys.exit(1)
-sys.exit(0 if f"{r['width']}x{r['height']}" == sys.argv[2] and r["spp"] == int(sys.argv[3]) else 1)
-PY
-  then
+  if ! python3 tools/reference_matches.py "$ref" "$size" "$spp"; then
     echo "== $which: reference, $spp rays per pixel at $size (the long step)"
     rm -rf "$ref"
     "$CUBEAO_BIN" reference "$scene" --camera "$walk" --width "${size%x*}" --height "${size#*x}" --spp "$spp" \
