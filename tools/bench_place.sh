@@ -11,7 +11,7 @@
 # Environment: CUBEAO_BIN (default build/cubeao, built if missing), CUBEAO_PLACE_BUDGETS ("12 24 48"),
 # CUBEAO_PLACE_SIZE (walk image WxH, 160x90), CUBEAO_PLACE_SPP (reference rays per pixel, 256),
 # CUBEAO_PLACE_RES (bake face size, 256), CUBEAO_PLACE_BAKE_SPP (rays per traced texel, 32),
-# CUBEAO_PLACE_PARTS ("counts walks"). References are traced once into out/place-walks/NAME/reference
+# CUBEAO_PLACE_PARTS ("counts walks"), CUBEAO_PLACE_METHODS (walk methods, "path voting grid coverage"). References are traced once into out/place-walks/NAME/reference
 # and reused while their size and rays match.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,6 +26,7 @@ spp=${CUBEAO_PLACE_SPP:-256}
 res=${CUBEAO_PLACE_RES:-256}
 bake_spp=${CUBEAO_PLACE_BAKE_SPP:-32}
 parts=${CUBEAO_PLACE_PARTS:-counts walks}
+methods=${CUBEAO_PLACE_METHODS:-path voting grid coverage}
 shared=$(realpath ../shared)
 out=out/bench-place
 mkdir -p "$out"
@@ -77,7 +78,7 @@ for which in "$@"; do
           --out "$ref" --json | tail -1 >/dev/null
     fi
     for budget in $budgets; do
-      for m in path voting grid coverage; do
+      for m in $methods; do
         name=$which-$m-$budget
         echo "== $which: $m, $budget probes, bake and walk"
         # Equal budgets: voting and grid fill the budget (target 1); coverage feedback keeps its per-frame
