@@ -19,11 +19,6 @@ kernel::CoverageParams CoverageCriterion::kernelParams() const {
     return {maxArea(), maxDistance(), minFacing, res};
 }
 
-float CoverageCriterion::quality(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n) const {
-    if (kernel::probeMayCoverPoint(probe, x, n, kernelParams())) return 1.0f;
-    return std::min(maxArea() / footprint(probe, x, n), 0.999f);
-}
-
 float CoverageCriterion::footprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n) const {
     return float(texelFootprint(probe, x, n, res, minFacing));
 }
@@ -117,22 +112,6 @@ std::vector<std::uint32_t> coveredSamples(const EmbreeScene& embree, std::span<c
     for (std::size_t i = 0; i < hit.size(); ++i)
         if (hit[i]) covered.push_back(std::uint32_t(i));
     return covered;
-}
-
-std::vector<SampleQuality> sampleQualities(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
-                                           std::span<const std::uint8_t> relevant, const CoverageCriterion& criterion,
-                                           const glm::vec3& probe) {
-    const CoverageCriterion lenient = criterion.lenient();
-    std::vector<float> quality(samples.size(), 0.0f);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size(), 256), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i)
-            if (relevant[i] && probeCovers(embree, lenient, probe, samples[i]))
-                quality[i] = criterion.quality(probe, samples[i].position, samples[i].normal);
-    });
-    std::vector<SampleQuality> seen;
-    for (std::size_t i = 0; i < quality.size(); ++i)
-        if (quality[i] > 0.0f) seen.push_back({std::uint32_t(i), quality[i]});
-    return seen;
 }
 
 CoverageCounts::CoverageCounts(std::span<const SurfaceSample> samples, std::span<const std::uint8_t> relevant)

@@ -78,13 +78,10 @@ CoverageFeedback::FrameResult CoverageFeedback::addFrame(const PinholeCamera& ca
         const PlacementScene::Votes votes =
             castVotes(ps_.embree(), ps_.freeSpace(), pixels.points, uncovered, ps_.criterion(), settings.votingRays,
                       settings.seed ^ std::uint32_t(probes_.size()), nullptr);
-        // The candidate that would cover the most of them (votes at quality 1), the graded vote
-        // breaking ties.
         std::size_t best = votes.weight.size();
         std::uint64_t bestVoters = 0;
         for (std::size_t c = 0; c < votes.weight.size(); ++c) {
-            std::uint64_t voters = 0;
-            for (std::uint64_t k = votes.offsets[c]; k < votes.offsets[c + 1]; ++k) voters += votes.quality[k] >= 1.0f;
+            const std::uint64_t voters = votes.offsets[c + 1] - votes.offsets[c];
             if (voters > bestVoters || (voters == bestVoters && voters > 0 && votes.weight[c] > votes.weight[best]))
                 best = c, bestVoters = voters;
         }

@@ -24,65 +24,7 @@ constexpr double kSecondWeight = 0.5;
 
 struct Vote {
     std::uint32_t candidate;
-    float quality;
-};
-
-// A chosen probe: its candidate voxel, position, and what it gives the samples.
-struct Chosen {
-    std::size_t candidate;
-    glm::vec3 position;
-    std::vector<SampleQuality> seen;      // graded quality per sample it sees (lenient criterion)
-    std::vector<std::uint32_t> covered;   // the samples of `seen` at quality 1
-};
-
-Chosen choose(const PlacementScene& ps, std::size_t candidate) {
-    Chosen c{candidate, ps.freeSpace().candidatePosition(candidate), {}, {}};
-    c.seen = sampleQualities(ps.embree(), ps.samples(), ps.relevant(), ps.criterion(), c.position);
-    for (const SampleQuality& q : c.seen)
-        if (q.quality >= 1.0f) c.covered.push_back(q.sample);
-    return c;
-}
-
-// Σ area · (best + kSecondWeight · second best quality): each sample's two best qualities.
-class Objective {
-public:
-    explicit Objective(const std::vector<SurfaceSample>& samples)
-        : samples_(samples), best_(samples.size(), 0.0f), second_(samples.size(), 0.0f) {}
-
-    double gain(std::uint32_t s, float q) const {
-        const double b = best_[s], c = second_[s];
-        if (q > b) return samples_[s].area * ((q - b) + kSecondWeight * (b - c));
-        if (q > c) return samples_[s].area * kSecondWeight * (q - c);
-        return 0.0;
-    }
-    double gain(const std::vector<SampleQuality>& seen) const {
-        double g = 0.0;
-        for (const SampleQuality& q : seen) g += gain(q.sample, q.quality);
-        return g;
-    }
-    void add(const std::vector<SampleQuality>& seen) {
-        for (const SampleQuality& q : seen) {
-            float& b = best_[q.sample];
-            float& c = second_[q.sample];
-            if (q.quality > b) {
-                c = b;
-                b = q.quality;
-            } else if (q.quality > c) {
-                c = q.quality;
-            }
-        }
-    }
-    // The state of every chosen probe except chosen[skip].
-    void rebuild(const std::vector<Chosen>& chosen, std::size_t skip) {
-        std::fill(best_.begin(), best_.end(), 0.0f);
-        std::fill(second_.begin(), second_.end(), 0.0f);
-        for (std::size_t k = 0; k < chosen.size(); ++k)
-            if (k != skip) add(chosen[k].seen);
-    }
-
-private:
-    const std::vector<SurfaceSample>& samples_;
-    std::vector<float> best_, second_;
+    float weight;
 };
 
 }  // namespace
@@ -92,8 +34,7 @@ PlacementScene::Votes castVotes(const EmbreeScene& embree, const FreeSpace& spac
                                 const CoverageCriterion& criterion, int rays, std::uint32_t seed,
                                 std::vector<std::uint8_t>* reached) {
     const VoxelGrid& grid = space.grid();
-    const CoverageCriterion lenient = criterion.lenient();
-    const float maxDistance = lenient.maxDistance(), maxArea = lenient.maxArea();
+    const float maxDistance = criterion.maxDistance(), maxArea = criterion.maxArea();
     const float eps = embree.surfaceEpsilon();
     std::vector<std::vector<Vote>> perSample(samples.size());
     if (reached) reached->assign(samples.size(), 0);
@@ -126,8 +67,7 @@ PlacementScene::Votes castVotes(const EmbreeScene& embree, const FreeSpace& spac
                     const glm::vec3 center = grid.center(c);
                     if (glm::distance(center, s.position) > maxDistance) return true;
                     const float area = criterion.footprint(center, s.position, s.normal);
-                    if (area <= maxArea)
-                        votes.push_back({std::uint32_t(candidate), criterion.quality(center, s.position, s.normal)});
+                    if (area <= maxArea) votes.push_back({std::uint32_t(candidate), s.area / area});
                     return true;
                 });
             }
@@ -160,13 +100,11 @@ PlacementScene::Votes castVotes(const EmbreeScene& embree, const FreeSpace& spac
         for (const Vote& v : votes) ++out.offsets[v.candidate + 1];
     for (std::size_t c = 0; c < candidates; ++c) out.offsets[c + 1] += out.offsets[c];
     out.voters.resize(out.offsets.back());
-    out.quality.resize(out.offsets.back());
     std::vector<std::uint64_t> fill(out.offsets.begin(), out.offsets.end() - 1);
     for (std::size_t i = 0; i < perSample.size(); ++i)
         for (const Vote& v : perSample[i]) {
-            out.quality[fill[v.candidate]] = v.quality;
             out.voters[fill[v.candidate]++] = std::uint32_t(i);
-            out.weight[v.candidate] += samples[i].area * v.quality;
+            out.weight[v.candidate] += v.weight;
         }
     return out;
 }
@@ -181,25 +119,29 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     watch.restart();
 
     const std::vector<SurfaceSample>& samples = ps.samples();
-    const std::size_t candidates = ps.freeSpace().candidates().size();
-    // The objective, Σ area · (best + ½ second best quality) over the relevant samples, kept as each
-    // sample's two best qualities; the coverage target is checked on the strict counts.
-    Objective objective(samples);
     CoverageCounts counts(samples, ps.relevant());
+    const std::size_t candidates = ps.freeSpace().candidates().size();
     auto voterGain = [&](std::size_t c) {
         double g = 0.0;
-        for (std::uint64_t k = votes.offsets[c]; k < votes.offsets[c + 1]; ++k)
-            g += objective.gain(votes.voters[k], votes.quality[k]);
+        for (std::uint64_t k = votes.offsets[c]; k < votes.offsets[c + 1]; ++k) {
+            const std::uint32_t s = votes.voters[k];
+            const std::uint32_t n = counts.count(s);
+            g += n == 0 ? samples[s].area : n == 1 ? kSecondWeight * samples[s].area : 0.0;
+        }
         return g;
     };
-    // Lazy greedy: the objective is submodular (a weighted sum of the two largest values, as in
-    // facility location), so gains only fall as probes are added and a candidate whose refreshed gain
-    // still beats every stale bound above it is the best.
+    // Lazy greedy: the gains only fall as coverage grows (a sum of concave functions of the counts),
+    // so a candidate whose refreshed gain still beats every stale bound above it is the best.
     using Entry = std::pair<double, std::int64_t>;  // (gain bound, −candidate): ties go to the lowest index
     std::priority_queue<Entry> queue;
     for (std::size_t c = 0; c < candidates; ++c)
         if (votes.offsets[c + 1] > votes.offsets[c]) queue.push({voterGain(c), -std::int64_t(c)});
 
+    struct Chosen {
+        std::size_t candidate;
+        glm::vec3 position;
+        std::vector<std::uint32_t> covered;
+    };
     std::vector<Chosen> chosen;
     const std::size_t budget = settings.budget > 0 ? std::size_t(settings.budget) : candidates;
     std::size_t evaluations = 0;
@@ -214,17 +156,17 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
             continue;
         }
         // The votes said so; the exact test decides (a voxel's centre can be hidden where its ray was not).
-        Chosen probe = choose(ps, c);
+        const glm::vec3 position = ps.freeSpace().candidatePosition(c);
+        std::vector<std::uint32_t> covered = ps.covered(position);
         ++evaluations;
-        if (!(objective.gain(probe.seen) > 0.0)) continue;
-        objective.add(probe.seen);
-        counts.add(probe.covered);
-        chosen.push_back(std::move(probe));
+        if (!(counts.gain(covered) + counts.gain2(covered) > 0.0)) continue;
+        counts.add(covered);
+        chosen.push_back({c, position, std::move(covered)});
         if (progress) progress->advance();
     }
     result.timings.emplace_back("greedy", watch.restart());
 
-    // Pruning: drop probes, least unique covered area first, while the target still holds.
+    // Pruning: drop probes, least unique area first, while the target still holds.
     if (counts.coverage() >= settings.target) {
         bool dropped = true;
         while (dropped && chosen.size() > 1) {
@@ -248,20 +190,16 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     }
     result.timings.emplace_back("prune", watch.restart());
 
-    // Local move: each probe tries the six neighbouring candidate voxels and takes the one that raises
-    // the objective most given all other probes, as long as the coverage target still holds.
+    // Local move: each probe tries the six neighbouring candidate voxels and takes the one that adds
+    // the most (first coverage, plus half of second coverage) given all other probes.
     const VoxelGrid& grid = ps.freeSpace().grid();
     std::size_t moves = 0;
     // Two probes never share a voxel (the bake refuses a probe set with two at one position).
     std::vector<std::uint8_t> taken(candidates, 0);
     for (const Chosen& c : chosen) taken[c.candidate] = 1;
-    for (std::size_t k = 0; k < chosen.size(); ++k) {
-        Chosen& probe = chosen[k];
-        objective.rebuild(chosen, k);
-        const bool held = counts.coverage() >= settings.target;
+    for (Chosen& probe : chosen) {
         counts.remove(probe.covered);
-        const bool keepTarget = held && counts.coverage() < settings.target;  // a move must not lose it
-        double best = objective.gain(probe.seen);
+        double best = counts.gain(probe.covered) + kSecondWeight * counts.gain2(probe.covered);
         const glm::ivec3 cell = grid.cell(ps.freeSpace().candidates()[probe.candidate]);
         static constexpr int kNeighbours[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
         for (const auto& step : kNeighbours) {
@@ -269,21 +207,17 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
             if (!grid.contains(n)) continue;
             const std::int32_t candidate = ps.freeSpace().candidateOf(grid.index(n));
             if (candidate < 0 || taken[std::size_t(candidate)]) continue;
-            Chosen moved = choose(ps, std::size_t(candidate));
+            const glm::vec3 position = ps.freeSpace().candidatePosition(std::size_t(candidate));
+            std::vector<std::uint32_t> covered = ps.covered(position);
             ++evaluations;
-            const double g = objective.gain(moved.seen);
-            if (!(g > best)) continue;
-            if (keepTarget) {  // without this probe the target fails: the moved one must restore it
-                counts.add(moved.covered);
-                const bool holds = counts.coverage() >= settings.target;
-                counts.remove(moved.covered);
-                if (!holds) continue;
+            const double g = counts.gain(covered) + kSecondWeight * counts.gain2(covered);
+            if (g > best) {
+                best = g;
+                taken[probe.candidate] = 0;
+                taken[std::size_t(candidate)] = 1;
+                probe = {std::size_t(candidate), position, std::move(covered)};
+                ++moves;
             }
-            best = g;
-            taken[probe.candidate] = 0;
-            taken[std::size_t(candidate)] = 1;
-            probe = std::move(moved);
-            ++moves;
         }
         counts.add(probe.covered);
     }

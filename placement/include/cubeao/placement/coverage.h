@@ -44,16 +44,6 @@ struct CoverageCriterion {
     float footprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n) const;
     // The criterion as the shared kernel (shaders/common/coverage.h) takes it.
     kernel::CoverageParams kernelParams() const;
-
-    // Placement's greedy objectives grade what is not covered: a probe that sees a point with a texel
-    // up to kLenientScale times the threshold's side is worth maxArea / area (a point seen coarsely
-    // is far better off than one no probe sees, which the run time shows as open); the lenient
-    // criterion is the threshold that far out.
-    static constexpr float kLenientScale = 4.0f;
-    CoverageCriterion lenient() const { return {res, maxTexel * kLenientScale, minFacing}; }
-    // 1 when the probe may cover the point (probeMayCover: the shared kernel, so "quality 1" and
-    // "covered" never disagree), else maxArea / footprint() kept below 1.
-    float quality(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n) const;
 };
 
 struct SurfaceSample {
@@ -78,16 +68,6 @@ bool probeCovers(const EmbreeScene& embree, const CoverageCriterion& criterion, 
                  const SurfaceSample& s);
 // The part of probeCovers() without the ray: cheap, for sorting out probes before tracing.
 bool probeMayCover(const CoverageCriterion& criterion, const glm::vec3& probe, const SurfaceSample& s);
-
-// The graded quality (CoverageCriterion::quality) of a probe at `probe` for every relevant sample it
-// sees within the lenient criterion, ascending by sample; quality 1 = covered.
-struct SampleQuality {
-    std::uint32_t sample;
-    float quality;
-};
-std::vector<SampleQuality> sampleQualities(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
-                                           std::span<const std::uint8_t> relevant, const CoverageCriterion& criterion,
-                                           const glm::vec3& probe);
 
 // The samples a probe at `probe` covers, ascending; only those with relevant[i] != 0 are tested.
 std::vector<std::uint32_t> coveredSamples(const EmbreeScene& embree, std::span<const SurfaceSample> samples,

@@ -3,13 +3,10 @@
 // criterion) and returns probes in the order chosen with the coverage each one added, measured by
 // the one definition of coverage.h:
 // - voting: each relevant sample casts rays in a cone around its normal; every candidate voxel a ray
-//   crosses before it hits geometry, whose centre sees the sample with a texel up to the lenient
-//   criterion's, gets the sample's vote with the quality it would give (1 = covered). Lazy greedy then
-//   takes the candidate that raises Σ area · (best quality + ½ second best) the most, until the
-//   coverage target or the budget: a facility-location objective, so when the budget cannot reach the
-//   target the probes still see as much as they can rather than covering a few places finely. A
-//   pruning pass drops probes the target does not need and each probe moves to a neighbouring voxel
-//   where the objective gains;
+//   crosses before it hits geometry, near enough to give a small enough texel, gets the sample's vote.
+//   Lazy greedy then takes the candidate whose voters are the most still-uncovered area (second
+//   coverage counting half), until the target or the budget; a pruning pass drops probes the target
+//   does not need and each probe moves to a neighbouring voxel where it covers more;
 // - grid: a uniform lattice of free points; the spacing is searched by bisection for the coarsest
 //   that reaches the target (or the finest within the budget), so it is compared at its best;
 // - path and coverage feedback produce their probes elsewhere (probe_set.h, coverage_feedback.h) and
@@ -75,13 +72,11 @@ public:
 
     std::vector<std::uint32_t> covered(const glm::vec3& probe) const;
 
-    // Voters per candidate (CSR: candidate c's samples are voters[offsets[c] .. offsets[c + 1])), the
-    // graded quality each voter would get from it (CoverageCriterion::quality; 1 = covered), and each
-    // candidate's quality-weighted vote Σ area · quality. Cast on first use.
+    // Voters per candidate (CSR: candidate c's samples are voters[offsets[c] .. offsets[c + 1])), and
+    // the quality-weighted vote of each candidate (Σ area / footprint). Cast on first use.
     struct Votes {
         std::vector<std::uint64_t> offsets;
         std::vector<std::uint32_t> voters;
-        std::vector<float> quality;
         std::vector<float> weight;
         std::size_t rays = 0;
     };
