@@ -15,6 +15,7 @@
 # and reused while their size and rays match.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source tools/walk_scenes.sh
 bin=${CUBEAO_BIN:-build/cubeao}
 if [ ! -x "$bin" ]; then
   bash tools/install-deps.sh
@@ -27,7 +28,6 @@ res=${CUBEAO_PLACE_RES:-256}
 bake_spp=${CUBEAO_PLACE_BAKE_SPP:-32}
 parts=${CUBEAO_PLACE_PARTS:-counts walks}
 methods=${CUBEAO_PLACE_METHODS:-path voting grid coverage}
-shared=$(realpath ../shared)
 out=out/bench-place
 mkdir -p "$out"
 rows=$out/rows.jsonl
@@ -52,11 +52,7 @@ PY
 
 [ $# -gt 0 ] || set -- sibenik fzk-haus
 for which in "$@"; do
-  case $which in
-    sibenik) scene=$shared/scenes/sibenik/sibenik.obj; walk=$shared/scenes/sibenik/walk.json ;;
-    fzk-haus) scene=/usr/share/assimp/models/IFC/AC14-FZK-Haus.ifc; walk=$shared/scenes/fzk-haus/walk.json ;;
-    *) echo "bench_place.sh: unknown scene \"$which\" (sibenik or fzk-haus)" >&2; exit 2 ;;
-  esac
+  walk_scene "$which" bench_place.sh
   if [[ " $parts " == *" counts "* ]]; then
     for target in 0.95 0.99; do
       for m in voting grid; do

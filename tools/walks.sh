@@ -12,9 +12,9 @@
 # CPU bake is the Embree twin itself).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source tools/walk_scenes.sh
 size=${CUBEAO_WALK_SIZE:-320x180}
 spp=${CUBEAO_WALK_SPP:-512}
-shared=$(realpath ../shared)
 if [ -z "${CUBEAO_BIN:-}" ]; then
   bash tools/install-deps.sh
   bash tools/build.sh --target cubeao
@@ -23,12 +23,7 @@ fi
 
 [ $# -gt 0 ] || set -- sibenik fzk-haus
 for which in "$@"; do
-  case $which in
-    sibenik) scene=$shared/scenes/sibenik/sibenik.obj; walk=$shared/scenes/sibenik/walk.json ;;
-    fzk-haus) scene=/usr/share/assimp/models/IFC/AC14-FZK-Haus.ifc; walk=$shared/scenes/fzk-haus/walk.json ;;
-    *) echo "walks.sh: unknown walk \"$which\" (sibenik or fzk-haus)" >&2; exit 2 ;;
-  esac
-  [ -f "$scene" ] || { echo "walks.sh: $scene is missing (see ../shared/scenes/README.md)" >&2; exit 1; }
+  walk_scene "$which" walks.sh
   out=out/walks/$which
   ref=$out/reference
   if ! python3 tools/reference_matches.py "$ref" "$size" "$spp"; then
