@@ -76,6 +76,11 @@ TEST(Cli, PlaceAlongThePathWritesAProbeSetBakeReads) {
     EXPECT_EQ(run("place builtin:box-room --method path --budget 0 --out " + probes.string()).code, 2);
     EXPECT_EQ(run("place builtin:box-room --coverage-target 1.5 --out " + probes.string()).code, 2);
     EXPECT_EQ(run("place builtin:box-room --budget -1 --out " + probes.string()).code, 2);
+    // A missing directory is made; one that cannot be (a file in the way) fails before any work.
+    const fs::path nested = dir.path() / "a" / "b" / "probes.json";
+    EXPECT_EQ(run("place builtin:box-room --method path --budget 2 --out " + nested.string()).code, 0);
+    EXPECT_TRUE(fs::exists(nested));
+    EXPECT_EQ(run("place builtin:box-room --method path --budget 2 --out " + (probes / "x.json").string()).code, 1);
 }
 
 TEST(Cli, BakeCpuWritesProbesAndVerifies) {

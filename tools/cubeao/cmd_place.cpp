@@ -4,6 +4,7 @@
 #include <sys/resource.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "commands.h"
@@ -40,6 +41,11 @@ void run(PlaceArgs a) {
     if (m == "path" && a.settings.budget == 0)
         throw UsageError("--method path needs --budget N (how many probes to spread along the path)");
     a.settings.validate();
+    // Before the work, not after it: a probes.json that cannot be written should cost nothing.
+    const std::filesystem::path outDir = std::filesystem::path(a.out).parent_path();
+    std::error_code ec;
+    if (!outDir.empty()) std::filesystem::create_directories(outDir, ec);
+    if (ec) throw Error(a.out + ": cannot create its directory (" + ec.message() + ")");
     const Scene scene = loadScene(a.scene);
     // The path and coverage methods walk a camera path; voting and grid use one when given (it decides
     // what is relevant) and free space otherwise. Built-in scenes bring their own path.
