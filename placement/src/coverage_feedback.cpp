@@ -38,6 +38,15 @@ FramePixels tracePixels(const EmbreeScene& embree, const PinholeCamera& camera) 
     return out;
 }
 
+namespace {
+
+// Share of a frame's surface pixels that a probe covers (mask from coveredMask, not empty).
+double coveredShare(const std::vector<std::uint8_t>& covered) {
+    return double(std::count(covered.begin(), covered.end(), 1)) / double(covered.size());
+}
+
+}  // namespace
+
 CoverageFeedback::CoverageFeedback(const PlacementScene& ps, FeedbackSettings settings)
     : ps_(ps), settings_(settings) {}
 
@@ -56,8 +65,7 @@ std::vector<std::uint8_t> CoverageFeedback::coveredMask(const FramePixels& pixel
 
 double CoverageFeedback::frameCoverage(const FramePixels& pixels) const {
     if (pixels.points.empty()) return 1.0;
-    const std::vector<std::uint8_t> covered = coveredMask(pixels);
-    return double(std::count(covered.begin(), covered.end(), 1)) / double(pixels.points.size());
+    return coveredShare(coveredMask(pixels));
 }
 
 CoverageFeedback::FrameResult CoverageFeedback::addFrame(const PinholeCamera& camera) {
@@ -66,8 +74,7 @@ CoverageFeedback::FrameResult CoverageFeedback::addFrame(const PinholeCamera& ca
     FrameResult r;
     if (pixels.points.empty()) return r;
     std::vector<std::uint8_t> covered = coveredMask(pixels);
-    auto share = [&] { return double(std::count(covered.begin(), covered.end(), 1)) / double(covered.size()); };
-    r.before = r.after = share();
+    r.before = r.after = coveredShare(covered);
     const PlaceSettings& settings = ps_.settings();
     const std::size_t budget =
         settings.budget > 0 ? std::size_t(settings.budget) : std::numeric_limits<std::size_t>::max();
@@ -96,7 +103,7 @@ CoverageFeedback::FrameResult CoverageFeedback::addFrame(const PinholeCamera& ca
         if (gained == 0) break;  // the votes' voxel centre is hidden from every voter: stop for this frame
         probes_.push_back(probe);
         ++r.added;
-        r.after = share();
+        r.after = coveredShare(covered);
     }
     return r;
 }

@@ -1,7 +1,6 @@
 #include "cubeao/placement/free_space.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -60,34 +59,21 @@ bool VoxelGrid::contains(const glm::ivec3& c) const {
 FreeSpace::FreeSpace(const Scene& scene, const EmbreeScene& embree, float voxel, float clearance)
     : scene_(scene), embree_(embree), solid_(std::make_unique<SolidGeometry>(scene)),
       grid_(VoxelGrid::around(scene.bounds, voxel)), clearance_(clearance > 0.0f ? clearance : 0.5f * grid_.voxel) {
-    enum : std::uint8_t { kFree, kTooClose, kInsideClosed, kInsideByRays, kOutside };
-    std::vector<std::uint8_t> verdict(grid_.size());
+    std::vector<Verdict> verdict(grid_.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid_.size(), 64), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            const glm::vec3 p = grid_.center(i);
-            if (glm::any(glm::lessThan(p, scene.bounds.min)) || glm::any(glm::greaterThan(p, scene.bounds.max)))
-                verdict[i] = kOutside;
-            else if (distanceToSurface(p) < clearance_)
-                verdict[i] = kTooClose;
-            else if (insideClosedSolid(p))
-                verdict[i] = kInsideClosed;
-            else if (backFaceShare(p) > 0.25f)
-                verdict[i] = kInsideByRays;
-            else
-                verdict[i] = kFree;
-        }
+        for (std::size_t i = range.begin(); i != range.end(); ++i) verdict[i] = classify(grid_.center(i));
     });
     candidateOf_.assign(grid_.size(), -1);
     for (std::size_t i = 0; i < grid_.size(); ++i) {
         switch (verdict[i]) {
-            case kFree:
+            case Verdict::Free:
                 candidateOf_[i] = std::int32_t(candidates_.size());
                 candidates_.push_back(std::uint32_t(i));
                 break;
-            case kTooClose: ++stats_.tooClose; break;
-            case kInsideClosed: ++stats_.insideClosed; break;
-            case kInsideByRays: ++stats_.insideByRays; break;
-            default: ++stats_.outside; break;
+            case Verdict::TooClose: ++stats_.tooClose; break;
+            case Verdict::InsideClosed: ++stats_.insideClosed; break;
+            case Verdict::InsideByRays: ++stats_.insideByRays; break;
+            case Verdict::Outside: ++stats_.outside; break;
         }
     }
     stats_.voxels = grid_.size();
@@ -112,10 +98,13 @@ float FreeSpace::backFaceShare(const glm::vec3& p) const {
     return float(back) / float(kInsideRays);
 }
 
-bool FreeSpace::isFree(const glm::vec3& p) const {
+FreeSpace::Verdict FreeSpace::classify(const glm::vec3& p) const {
     const Bounds& b = scene_.bounds;
-    if (glm::any(glm::lessThan(p, b.min)) || glm::any(glm::greaterThan(p, b.max))) return false;
-    return distanceToSurface(p) >= clearance_ && !insideClosedSolid(p) && backFaceShare(p) <= 0.25f;
+    if (glm::any(glm::lessThan(p, b.min)) || glm::any(glm::greaterThan(p, b.max))) return Verdict::Outside;
+    if (distanceToSurface(p) < clearance_) return Verdict::TooClose;
+    if (insideClosedSolid(p)) return Verdict::InsideClosed;
+    if (backFaceShare(p) > 0.25f) return Verdict::InsideByRays;
+    return Verdict::Free;
 }
 
 }  // namespace cubeao::placement

@@ -1,7 +1,6 @@
 // The fair grid (placement.h): a uniform lattice of free points whose spacing is searched, so the
 // comparison with voting is made against the grid at its best rather than at a guess.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <set>
 #include <tuple>
@@ -70,9 +69,12 @@ std::vector<glm::vec3> gridProbes(const PlacementScene& ps, float spacing) {
     const FreeSpace& space = ps.freeSpace();
     const VoxelGrid& grid = space.grid();
     const glm::vec3 extent = b.max - b.min;
-    const glm::ivec3 n = glm::max(glm::ivec3(glm::floor(extent / spacing)), glm::ivec3(1));
-    const glm::vec3 first = b.min + 0.5f * (extent - glm::vec3(n) * spacing) + 0.5f * spacing;
-    const std::size_t total = std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z);
+    // The lattice points are the centres of cells `spacing` wide, as many as fit, centred in the box.
+    VoxelGrid lattice;
+    lattice.voxel = spacing;
+    lattice.dims = glm::max(glm::ivec3(glm::floor(extent / spacing)), glm::ivec3(1));
+    lattice.origin = b.min + 0.5f * (extent - glm::vec3(lattice.dims) * spacing);
+    const std::size_t total = lattice.size();
     // A lattice point in a wall moves to the nearest free voxel centre within half a spacing, as
     // engines relocate grid probes (DDGI): the grid gets every chance a user would give it.
     const int reach = std::min(8, int(std::floor(0.5f * spacing / grid.voxel)));
@@ -80,9 +82,7 @@ std::vector<glm::vec3> gridProbes(const PlacementScene& ps, float spacing) {
     std::vector<std::uint8_t> ok(total, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, total, 16), [&](const auto& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            const glm::ivec3 c(int(i % std::size_t(n.x)), int(i / std::size_t(n.x) % std::size_t(n.y)),
-                               int(i / (std::size_t(n.x) * std::size_t(n.y))));
-            const glm::vec3 p = first + glm::vec3(c) * spacing;
+            const glm::vec3 p = lattice.center(i);
             if (space.isFree(p)) {
                 placed[i] = p, ok[i] = 1;
                 continue;

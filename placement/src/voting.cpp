@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <queue>
+#include <span>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -11,8 +12,8 @@
 
 #include "cubeao/core/progress.h"
 #include "cubeao/core/sampling.h"
-#include "cubeao/reference/embree_scene.h"
 #include "cubeao/core/stopwatch.h"
+#include "cubeao/reference/embree_scene.h"
 #include "votes.h"
 
 namespace cubeao::placement {
@@ -21,6 +22,11 @@ namespace {
 // Second coverage counts half as much as first in the greedy gain: the run time blends the best two
 // probes, but a point no probe sees is far worse off than one only one probe sees.
 constexpr double kSecondWeight = 0.5;
+
+// The greedy's objective: what `covered` adds to first coverage, plus half of what it adds to second.
+double objectiveGain(const CoverageCounts& counts, std::span<const std::uint32_t> covered) {
+    return counts.gain(covered) + kSecondWeight * counts.gain2(covered);
+}
 
 struct Vote {
     std::uint32_t candidate;
@@ -121,14 +127,10 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     const std::vector<SurfaceSample>& samples = ps.samples();
     CoverageCounts counts(samples, ps.relevant());
     const std::size_t candidates = ps.freeSpace().candidates().size();
+    // The objective's gain if candidate c covered exactly its voters.
     auto voterGain = [&](std::size_t c) {
-        double g = 0.0;
-        for (std::uint64_t k = votes.offsets[c]; k < votes.offsets[c + 1]; ++k) {
-            const std::uint32_t s = votes.voters[k];
-            const std::uint32_t n = counts.count(s);
-            g += n == 0 ? samples[s].area : n == 1 ? kSecondWeight * samples[s].area : 0.0;
-        }
-        return g;
+        const std::uint64_t first = votes.offsets[c], count = votes.offsets[c + 1] - first;
+        return objectiveGain(counts, std::span(votes.voters).subspan(first, count));
     };
     // Lazy greedy: the gains only fall as coverage grows (a sum of concave functions of the counts),
     // so a candidate whose refreshed gain still beats every stale bound above it is the best.
@@ -159,7 +161,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
         const glm::vec3 position = ps.freeSpace().candidatePosition(c);
         std::vector<std::uint32_t> covered = ps.covered(position);
         ++evaluations;
-        if (!(counts.gain(covered) + counts.gain2(covered) > 0.0)) continue;
+        if (!(objectiveGain(counts, covered) > 0.0)) continue;
         counts.add(covered);
         chosen.push_back({c, position, std::move(covered)});
         if (progress) progress->advance();
@@ -199,7 +201,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     for (const Chosen& c : chosen) taken[c.candidate] = 1;
     for (Chosen& probe : chosen) {
         counts.remove(probe.covered);
-        double best = counts.gain(probe.covered) + kSecondWeight * counts.gain2(probe.covered);
+        double best = objectiveGain(counts, probe.covered);
         const glm::ivec3 cell = grid.cell(ps.freeSpace().candidates()[probe.candidate]);
         static constexpr int kNeighbours[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
         for (const auto& step : kNeighbours) {
@@ -210,7 +212,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
             const glm::vec3 position = ps.freeSpace().candidatePosition(std::size_t(candidate));
             std::vector<std::uint32_t> covered = ps.covered(position);
             ++evaluations;
-            const double g = counts.gain(covered) + kSecondWeight * counts.gain2(covered);
+            const double g = objectiveGain(counts, covered);
             if (g > best) {
                 best = g;
                 taken[probe.candidate] = 0;

@@ -56,9 +56,12 @@ public:
     std::int32_t candidateOf(std::size_t voxelIndex) const { return candidateOf_[voxelIndex]; }
     glm::vec3 candidatePosition(std::size_t candidate) const { return grid_.center(candidates_[candidate]); }
 
-    // The same test at any point (the grid method's lattice, a moved probe): inside the box, clear of
+    // What a point is, tested in this order (the first that applies).
+    enum class Verdict : std::uint8_t { Free, Outside, TooClose, InsideClosed, InsideByRays };
+    Verdict classify(const glm::vec3& p) const;
+    // The test of the voxels at any point (the grid method's lattice): inside the box, clear of
     // geometry by `clearance`, not inside a solid.
-    bool isFree(const glm::vec3& p) const;
+    bool isFree(const glm::vec3& p) const { return classify(p) == Verdict::Free; }
     float distanceToSurface(const glm::vec3& p) const;
     // Share of kInsideRays rays from p that hit the back of a face (> 0.25: inside).
     float backFaceShare(const glm::vec3& p) const;
