@@ -112,6 +112,18 @@ TEST_F(GlTest, GBufferMatchesEmbreePrimaryRaysAndBothGpuModesAgree) {
 // float rounding, except where a march point lands within rounding of a texel border and the two
 // pick neighbouring texels (rare, bounded by the per-texel difference allowed below).
 // Returns the GPU pass's (AO, confidence) per texel.
+// Calls visit(face, i, j, texel index, surface point, normal) for every texel of `g` that shows a surface.
+template <class Visit>
+void forEachSurfaceTexel(const CubeGBuffer& g, int res, Visit&& visit) {
+    for (int f = 0; f < cube::kFaces; ++f)
+        for (int j = 0; j < res; ++j)
+            for (int i = 0; i < res; ++i) {
+                const std::size_t t = cube::texelIndex(f, i, j, res);
+                if (CubeGBuffer::empty(g.texels[t])) continue;
+                visit(f, i, j, t, g.surfacePoint(f, i, j), glm::vec3(g.texels[t]));
+            }
+}
+
 std::vector<glm::vec2> expectHorizonTwin(Estimator e, Falloff falloff = Falloff::None) {
     const Scene& scene = boxRoom();
     BakeSettings s = bakeSettings(e, 32, 1.0f, 32);
@@ -122,22 +134,17 @@ std::vector<glm::vec2> expectHorizonTwin(Estimator e, Falloff falloff = Falloff:
     const std::vector<glm::vec2> gpu = baker.horizonOn(g, 3, &gpuFetches);
     double sumAo = 0.0;
     std::size_t far = 0, surface = 0;
-    for (int f = 0; f < cube::kFaces; ++f)
-        for (int j = 0; j < s.res; ++j)
-            for (int i = 0; i < s.res; ++i) {
-                const std::size_t t = cube::texelIndex(f, i, j, s.res);
-                if (CubeGBuffer::empty(g.texels[t])) continue;
-                const glm::vec3 p = g.surfacePoint(f, i, j), n(g.texels[t]);
-                const std::uint32_t key = texelKey(f, i, j, s.res, 3, s.ao.seed);
-                const HorizonEstimate cpu = e == Estimator::Gtao ? gtaoAo(g, p, n, s, key) : horizonSplitAo(g, p, n, s, key);
-                cpuFetches += cpu.fetches;
-                const float d = std::fabs(cpu.ao - gpu[t].x);
-                sumAo += d;
-                far += d > 1e-3f ? 1 : 0;
-                ++surface;
-                EXPECT_LE(d, 0.1f) << "texel " << f << "/" << i << "," << j;
-                EXPECT_NEAR(cpu.confidence, gpu[t].y, 0.02f) << "texel " << f << "/" << i << "," << j;
-            }
+    forEachSurfaceTexel(g, s.res, [&](int f, int i, int j, std::size_t t, const glm::vec3& p, const glm::vec3& n) {
+        const std::uint32_t key = texelKey(f, i, j, s.res, 3, s.ao.seed);
+        const HorizonEstimate cpu = e == Estimator::Gtao ? gtaoAo(g, p, n, s, key) : horizonSplitAo(g, p, n, s, key);
+        cpuFetches += cpu.fetches;
+        const float d = std::fabs(cpu.ao - gpu[t].x);
+        sumAo += d;
+        far += d > 1e-3f ? 1 : 0;
+        ++surface;
+        EXPECT_LE(d, 0.1f) << "texel " << f << "/" << i << "," << j;
+        EXPECT_NEAR(cpu.confidence, gpu[t].y, 0.02f) << "texel " << f << "/" << i << "," << j;
+    });
     EXPECT_LT(sumAo / double(surface), 1e-3) << estimatorName(e);
     EXPECT_LE(far, surface / 100) << estimatorName(e) << ": texels differing by more than 1e-3";
     // The same decisions make the same lookups, up to the rare border flips above.
@@ -160,20 +167,15 @@ TEST_F(GlTest, GtaoReadsOneOnAnOpenPlane) {
     const CubeGBuffer g = renderGBufferCpu(EmbreeScene(scene), probe, s.res);
     const std::vector<glm::vec2> gpu = baker.horizonOn(g, 2);
     std::size_t checked = 0, grazing = 0;
-    for (int f = 0; f < cube::kFaces; ++f)
-        for (int j = 0; j < s.res; ++j)
-            for (int i = 0; i < s.res; ++i) {
-                const std::size_t t = cube::texelIndex(f, i, j, s.res);
-                if (CubeGBuffer::empty(g.texels[t])) continue;
-                const glm::vec3 p = g.surfacePoint(f, i, j), n(g.texels[t]);
-                // The plane, with nothing within R: the sphere (and its texels) farther than R + 1 m.
-                if (n.y < 0.999f || glm::length(p - sphere) < scenes::kSphereRadius + s.ao.radius + 1.0f) continue;
-                const HorizonEstimate cpu = gtaoAo(g, p, n, s, texelKey(f, i, j, s.res, 2, s.ao.seed));
-                EXPECT_NEAR(gpu[t].x, 1.0f, 1e-4f) << "GPU, texel " << f << "/" << i << "," << j;
-                EXPECT_NEAR(cpu.ao, 1.0f, 1e-4f) << "C++, texel " << f << "/" << i << "," << j;
-                ++checked;
-                grazing += glm::normalize(probe - p).y < 0.17f ? 1 : 0;  // view more than 80° from the normal
-            }
+    forEachSurfaceTexel(g, s.res, [&](int f, int i, int j, std::size_t t, const glm::vec3& p, const glm::vec3& n) {
+        // The plane, with nothing within R: the sphere (and its texels) farther than R + 1 m.
+        if (n.y < 0.999f || glm::length(p - sphere) < scenes::kSphereRadius + s.ao.radius + 1.0f) return;
+        const HorizonEstimate cpu = gtaoAo(g, p, n, s, texelKey(f, i, j, s.res, 2, s.ao.seed));
+        EXPECT_NEAR(gpu[t].x, 1.0f, 1e-4f) << "GPU, texel " << f << "/" << i << "," << j;
+        EXPECT_NEAR(cpu.ao, 1.0f, 1e-4f) << "C++, texel " << f << "/" << i << "," << j;
+        ++checked;
+        grazing += glm::normalize(probe - p).y < 0.17f ? 1 : 0;  // view more than 80° from the normal
+    });
     EXPECT_GE(checked, std::size_t(6 * s.res * s.res / 3));
     EXPECT_GE(grazing, std::size_t(50));
 }
