@@ -91,6 +91,24 @@ TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
               GLint(sizeof(std::uint32_t)));
 }
 
+// Placement's GPU coverage count (placement/src/gpu_coverage.cpp binds by placement_layout.h).
+TEST_F(GlTest, CoverageCountShaderMatchesTheSharedLayout) {
+    const gl::Program program = gl::compileComputeProgram("placement/coverage_count.comp");
+    const GLuint p = program.id();
+    expectPixelGroup(p, "coverage_count");
+    EXPECT_EQ(unitOf(p, "depthTex"), k::kGBufferDepthUnit);
+    EXPECT_EQ(unitOf(p, "normalTex"), k::kGBufferNormalUnit);
+    EXPECT_EQ(blockBinding(p, "Probes"), k::kCoverageProbeBuffer);
+    EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, "probes[0]", GL_ARRAY_STRIDE), GLint(4 * sizeof(float)));
+    EXPECT_EQ(blockBinding(p, "Counters"), k::kCoverageCounterBuffer);
+    EXPECT_EQ(resourceProperty(p, GL_SHADER_STORAGE_BLOCK, "Counters", GL_BUFFER_DATA_SIZE),
+              GLint(sizeof(k::CoverageCounters)));
+    EXPECT_EQ(variableOffset(p, "counters.pixels"), GLint(offsetof(k::CoverageCounters, pixels)));
+    EXPECT_EQ(variableOffset(p, "counters.uncovered"), GLint(offsetof(k::CoverageCounters, uncovered)));
+    EXPECT_EQ(blockBinding(p, "BvhNodes"), k::kBvhNodeBuffer);
+    EXPECT_EQ(blockBinding(p, "BvhTriangles"), k::kBvhTriangleBuffer);
+}
+
 TEST_F(GlTest, ScreenSpaceShadersMatchTheSharedLayout) {
     for (const char* method : {"alchemy", "hbao", "gtao"}) {
         const std::string name = std::string("ssao/") + method + ".comp";
