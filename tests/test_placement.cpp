@@ -355,6 +355,10 @@ TEST(Placement, CoverageGrowsBudgetHoldsSameSeedSameProbes) {
         const Placement prefix = evaluate(ps, std::vector<glm::vec3>(all.begin(), all.begin() + std::ptrdiff_t(k)),
                                           "prefix");
         EXPECT_GE(prefix.coverage, last) << k << " probes";
+        // probes.json's gain of probe k is what it adds to the probes before it.
+        if (k > 0) {
+            EXPECT_NEAR(voting.probes[k - 1].gain, prefix.coverage - last, 1e-9) << k << " probes";
+        }
         last = prefix.coverage;
     }
     EXPECT_DOUBLE_EQ(last, voting.coverage);
@@ -383,28 +387,28 @@ TEST(Placement, CoverageGrowsBudgetHoldsSameSeedSameProbes) {
 
 // ---- Coverage feedback on a builtin scene -------------------------------------------------------
 
-// builtin:box-room with its own walk and settings under which a probe covers a few metres.
+// builtin:box-room with its own walk, settings under which a probe covers a few metres, and the
+// placement scene they make.
+PlaceSettings boxRoomSettings(const Scene& scene) {
+    PlaceSettings s = coarse(scene, 0.95);
+    s.samples = 1500;
+    s.votingRays = 12;
+    s.res = 128;
+    s.texelsPerRadius = 4.0f;
+    return s;
+}
+
 struct BoxRoomWalk {
     Scene scene = loadScene("builtin:box-room");
     CameraPath path = resolveCameraPath("", "builtin:box-room");
-
-    PlaceSettings settings() const {
-        PlaceSettings s = coarse(scene, 0.95);
-        s.samples = 1500;
-        s.votingRays = 12;
-        s.res = 128;
-        s.texelsPerRadius = 4.0f;
-        return s;
-    }
+    PlaceSettings settings = boxRoomSettings(scene);
+    PlacementScene ps{scene, settings, &path};
 };
 
 TEST(Placement, CoverageFeedbackReachesTargetOnBoxRoom) {
     const BoxRoomWalk room;
-    const Scene& scene = room.scene;
-    const CameraPath& path = room.path;
+    const auto& [scene, path, s, ps] = room;
     ASSERT_FALSE(path.frames.empty());
-    const PlaceSettings s = room.settings();
-    const PlacementScene ps(scene, s, &path);
     const Placement r = placeCoverage(ps, path);
     std::printf("box-room feedback: reach %.2f, %zu probes, coverage %.4f\n", ps.criterion().maxDistance(),
                 r.probes.size(), r.coverage);
@@ -454,11 +458,8 @@ constexpr double kCoverageTolerance = 0.02;
 
 TEST_F(PlacementGl, GpuCountAgreesWithCpuCount) {
     const BoxRoomWalk room;
-    const Scene& scene = room.scene;
-    const CameraPath& path = room.path;
+    const auto& [scene, path, s, ps] = room;
     ASSERT_FALSE(path.frames.empty());
-    const PlaceSettings s = room.settings();
-    const PlacementScene ps(scene, s, &path);
     // The probes of a coverage-feedback walk, held by the CoverageFeedback whose frameCoverage is the
     // CPU count.
     CoverageFeedback feedback(ps, {});
@@ -526,11 +527,8 @@ TEST_F(PlacementGl, GpuCountReturnsEveryTicketInOrder) {
 // the target is traced and voted on as on the CPU, and the two counts agree (test above).
 TEST_F(PlacementGl, CoverageFeedbackWithGpuCountPlacesTheSameProbes) {
     const BoxRoomWalk room;
-    const Scene& scene = room.scene;
-    const CameraPath& path = room.path;
+    const auto& [scene, path, s, ps] = room;
     ASSERT_FALSE(path.frames.empty());
-    const PlaceSettings s = room.settings();
-    const PlacementScene ps(scene, s, &path);
     const Placement cpu = placeCoverage(ps, path);
     GpuCoverageCount gpu(scene, path.nearPlane);
     const Placement onGpu = placeCoverage(ps, path, {}, nullptr, &gpu);
