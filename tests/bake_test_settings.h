@@ -2,7 +2,17 @@
 // test bakes with is written at its call site; nothing differs from file to file.
 #pragma once
 
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "cubeao/bake/bake.h"
+#include "cubeao/bake/bake_cache.h"
+#include "cubeao/bake/bake_driver.h"
 #include "cubeao/bake/bake_settings.h"
+#include "cubeao/scene/scene.h"
 
 namespace cubeao::test {
 
@@ -20,6 +30,22 @@ inline BakeSettings bakeSettings(Estimator estimator, int res, float radius, int
     s.directions = directions;
     s.steps = steps;
     return resolveBakeSettings(s, radius);
+}
+
+// Bakes `probes` (probe i gets index i) on the CPU into the cache `path`, as `cubeao bake` does.
+inline void bakeCache(const Scene& scene, std::span<const glm::vec3> probes, const BakeSettings& s,
+                      const std::string& path) {
+    std::vector<ProbeSpec> specs;
+    for (const glm::vec3& p : probes) specs.push_back({p});
+    BakeCacheWriter cache(path, cacheParamsFor(s, scene.hash), specs);
+    BakeSettings cpu = s;
+    cpu.device = BakeDevice::Cpu;
+    ProbeBaker baker(scene, cpu);
+    BakeJob job;
+    job.probes = specs;
+    job.progressLabel.clear();
+    bakeProbes(baker, job, cache);
+    cache.finish();
 }
 
 }  // namespace cubeao::test

@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -20,6 +22,8 @@ TEST(BenchRenderCli, UsageErrors) {
     EXPECT_EQ(runCli("bench render --res 6").code, 2) << "BC5 needs a multiple of 4";
     EXPECT_EQ(runCli("bench render --probes 10,0").code, 2);
     EXPECT_EQ(runCli("bench render --frames 0").code, 2);
+    EXPECT_EQ(runCli("bench render --gpu-budget-mb -1").code, 2);
+    EXPECT_EQ(runCli("bench render --upload-mb -1").code, 2);
 }
 
 // 400 probes are 2,400 cube faces: more than the 2,048 array layers llvmpipe allows, so the sweep
@@ -60,6 +64,47 @@ TEST_F(GlTest, BenchRenderTimesEveryMethodAndTheProbeSweep) {
     EXPECT_NEAR(t["sweep_spread_ao_blur"].get<double>(), spread("ao_blur"), 1e-9);
     EXPECT_NEAR(t["sweep_spread_ao"].get<double>(), spread("ao"), 1e-9);
     EXPECT_EQ(t["sweep_flat"].get<bool>(), spread("gpu_total") <= 0.2) << "issue 6: flat within 20 %";
+}
+
+// Issue 13's sweep at a tiny size: synthetic payloads, a budget that holds fewer slots than the larger
+// cache has probes (so the pool streams and evicts), the residency's stats per count, the ratios to
+// the smallest count, and --keep-caches keeping the files for a second run to reuse.
+TEST_F(GlTest, BenchRenderSyntheticSweepUnderABudget) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("cubeao-test-bench-render-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    const std::string args = "bench render --scene builtin:box-room --width 64 --height 36 --probes 300,10 --res 8 "
+                             "--frames 3 --rounds 1 --methods probes --synthetic --gpu-budget-mb 0.64 --upload-mb 0.01 "
+                             "--keep-caches " + dir.string() + " --json";
+    const CliRun r = runCli(args);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const nlohmann::json j = lastLine(r.out);
+    EXPECT_TRUE(j["sweep_caches"]["synthetic"].get<bool>());
+    ASSERT_EQ(j["sweep"].size(), 2u);
+    for (const nlohmann::json& s : j["sweep"]) {
+        const std::size_t n = s["probes"].get<std::size_t>();
+        const nlohmann::json& res = s["residency"];
+        EXPECT_FALSE(s["cache_reused"].get<bool>()) << n;
+        EXPECT_GT(res["slots"].get<std::size_t>(), 0u) << n;
+        EXPECT_LE(res["resident"].get<std::size_t>(), std::min(n, res["slots"].get<std::size_t>())) << n;
+        EXPECT_GE(res["loads"].get<std::size_t>(), res["resident"].get<std::size_t>()) << n;
+        EXPECT_LE(res["max_frame_upload_bytes"].get<std::size_t>(), res["upload_bound_bytes"].get<std::size_t>()) << n;
+        EXPECT_LE(s["gpu_bytes"].get<double>(), 0.64 * 1024 * 1024) << n << " probes: within the budget";
+        EXPECT_GT(s["timings_ms"]["ao"].get<double>(), 0.0) << n;
+        EXPECT_NEAR(s["frame_ratio"].get<double>(), s["timings_ms"]["gpu_total"].get<double>() /
+                    j["sweep"][0]["timings_ms"]["gpu_total"].get<double>(), 1e-9) << n;
+        EXPECT_TRUE(fs::exists(dir / ("synthetic_8_" + std::to_string(n) + ".cubeao"))) << n << ": kept";
+    }
+    EXPECT_LT(j["sweep"][1]["residency"]["slots"].get<std::size_t>(), 300u) << "the budget holds part of the cache";
+    EXPECT_LT(j["sweep"][0]["uncovered_fraction"].get<double>(), 0.05) << "10 synthetic probes see the surfaces";
+    EXPECT_NEAR(j["targets"]["sweep_max_frame_ratio"].get<double>(),
+                std::max(1.0, j["sweep"][1]["frame_ratio"].get<double>()), 1e-9);
+
+    const CliRun again = runCli(args);
+    ASSERT_EQ(again.code, 0) << again.out;
+    for (const nlohmann::json& s : lastLine(again.out)["sweep"])
+        EXPECT_TRUE(s["cache_reused"].get<bool>()) << s["probes"] << ": the kept cache is read again";
+    fs::remove_all(dir);
 }
 
 }  // namespace

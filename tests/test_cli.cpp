@@ -1,6 +1,7 @@
 // The cubeao binary end to end: exit codes, JSON as the last line, files written (DESIGN.md §5).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cubeao/cache/cache_file.h"
+#include "cubeao/core/image.h"
+#include "cubeao/metrics/image_io.h"
 #include "cli_run.h"
 #include "test_util.h"
 
@@ -50,6 +53,31 @@ TEST(Cli, ReferenceWritesFramesNamedByPathIndex) {
     const CliRun c = run("compare " + dir.path().string() + " " + dir.path().string() + " --json");
     ASSERT_EQ(c.code, 0) << c.out;
     EXPECT_EQ(lastLine(c.out)["mae"].get<double>(), 0.0);
+}
+
+// compare --where-differs: the MAE of A and of C against B over exactly the pixels where A and C differ.
+TEST(Cli, CompareWhereDiffers) {
+    TempDir dir;
+    // 16 × 16 (SSIM's window needs 11 × 11); C differs from A in two pixels.
+    const auto frame = [&](const std::string& sub, float value, std::vector<std::pair<int, float>> changes) {
+        fs::create_directories(dir.path() / sub);
+        cubeao::Image image(16, 16);
+        std::fill(image.pixels.begin(), image.pixels.end(), value);
+        for (const auto& [i, v] : changes) image.pixels[std::size_t(i)] = v;
+        cubeao::writeExr(dir.path() / sub / "ao_0000.exr", image);
+    };
+    frame("a", 0.5f, {});
+    frame("b", 0.4f, {});
+    frame("c", 0.5f, {{17, 1.0f}, {200, 0.45f}});
+    const CliRun c = run("compare " + (dir.path() / "a").string() + " " + (dir.path() / "b").string() +
+                         " --where-differs " + (dir.path() / "c").string() + " --json", true);
+    ASSERT_EQ(c.code, 0) << c.out;
+    const auto w = lastLine(c.out)["where_differs"];
+    EXPECT_DOUBLE_EQ(w["fraction"].get<double>(), 2.0 / 256.0);
+    EXPECT_NEAR(w["mae_a"].get<double>(), 0.1, 1e-6);
+    EXPECT_NEAR(w["mae_c"].get<double>(), (0.6 + 0.05) / 2.0, 1e-6);
+    EXPECT_EQ(run("compare " + (dir.path() / "a").string() + " " + (dir.path() / "b").string() + " --where-differs " +
+                  (dir.path() / "none").string()).code, 1);
 }
 
 TEST(Cli, ExitCodes) {

@@ -123,21 +123,6 @@ TEST_F(GlTest, ProbeProjectionMatchesTheCpuTwin) {
 constexpr glm::vec3 kFarProbe{1.5f, 2.0f, 4.5f}, kNearProbe{6.6f, 1.0f, 1.6f}, kFixedPoint{7.0f, 0.0f, 1.25f};
 constexpr glm::vec3 kFloorNormal{0.0f, 1.0f, 0.0f};
 
-// Bakes `probes` (probe i gets index i) on the CPU into the cache `path`, as `cubeao bake` does.
-void bakeCache(const Scene& scene, std::span<const glm::vec3> probes, const BakeSettings& s, const std::string& path) {
-    std::vector<ProbeSpec> specs;
-    for (const glm::vec3& p : probes) specs.push_back({p});
-    BakeCacheWriter cache(path, cacheParamsFor(s, scene.hash), specs);
-    BakeSettings cpu = s;
-    cpu.device = BakeDevice::Cpu;
-    ProbeBaker baker(scene, cpu);
-    BakeJob job;
-    job.probes = specs;
-    job.progressLabel.clear();
-    bakeProbes(baker, job, cache);
-    cache.finish();
-}
-
 struct PointSample {
     float blurred = 0.0f;      // mean of the 3 × 3 window of the AO image (after the blur) around P's pixel
     float raw = 0.0f;          // the projection's AO at P's pixel, before the blur
@@ -182,7 +167,7 @@ TEST_F(GlTest, FixedPointAoIsContinuousAsTheCameraWalksFromOneProbeToTheOther) {
     test::TempDir dir("twoprobes");
     const std::string cacheFile = (dir / "two.cubeao").string();
     const glm::vec3 probes[] = {kFarProbe, kNearProbe};
-    bakeCache(scene, probes, s, cacheFile);
+    test::bakeCache(scene, probes, s, cacheFile);
     const CacheReader cache(cacheFile);
     std::vector<Decoded> decoded;
     std::vector<DecodedProbe> views;

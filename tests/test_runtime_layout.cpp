@@ -67,6 +67,9 @@ void expectPassCounters(GLuint program, const std::string& name) {
         << name;
     EXPECT_EQ(variableOffset(program, "counters.uncovered"), GLint(offsetof(k::PassCounters, uncovered)))
         << name;
+    EXPECT_EQ(variableOffset(program, "counters.fallbackProbe"), GLint(offsetof(k::PassCounters, fallbackProbe)))
+        << name;
+    EXPECT_EQ(variableOffset(program, "counters.geometry"), GLint(offsetof(k::PassCounters, geometry))) << name;
 }
 
 TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
@@ -83,8 +86,11 @@ TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
     EXPECT_EQ(blockBinding(p, "ProbeTable"), k::kProbeTableBuffer);
     EXPECT_EQ(variableOffset(p, "probes[0].position"), GLint(offsetof(k::ProbeEntry, position)));
     EXPECT_EQ(variableOffset(p, "probes[0].distanceScale"), GLint(offsetof(k::ProbeEntry, distanceScale)));
+    EXPECT_EQ(variableOffset(p, "probes[0].slot"), GLint(offsetof(k::ProbeEntry, slot)));
     EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, "probes[0].position", GL_TOP_LEVEL_ARRAY_STRIDE),
               GLint(sizeof(k::ProbeEntry)));
+    EXPECT_EQ(blockBinding(p, "Feedback"), k::kProbeFeedbackBuffer);
+    EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, "demand[0]", GL_ARRAY_STRIDE), GLint(sizeof(std::uint32_t)));
 
     EXPECT_EQ(blockBinding(p, "Candidates"), k::kCandidateBuffer);
     EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, "candidates[0]", GL_ARRAY_STRIDE),
@@ -122,6 +128,64 @@ TEST_F(GlTest, ScreenSpaceShadersMatchTheSharedLayout) {
     }
 }
 
+// The screen-space fallback's three dispatches (gtao_fill.comp; gtao_fallback.cpp binds by the layout).
+TEST_F(GlTest, GtaoFallbackShadersMatchTheSharedLayout) {
+    const auto compile = [](const char* pass) {
+        return gl::compileComputeProgram("ssao/gtao_fill.comp", {{"GTAO_FILL_PASS", pass}});
+    };
+    const auto expectList = [](GLuint p, const char* block, const char* head, const char* entries,
+                               const std::string& name) {
+        EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, (std::string(head) + ".groupsX").c_str(), GL_OFFSET),
+                  GLint(offsetof(k::FallbackList, groupsX)))
+            << name << " " << block;
+        EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, (std::string(head) + ".entries").c_str(), GL_OFFSET),
+                  GLint(offsetof(k::FallbackList, entries)))
+            << name << " " << block;
+        const std::string first = std::string(entries) + "[0]";
+        EXPECT_EQ(variableOffset(p, first.c_str()), GLint(sizeof(k::FallbackList))) << name << " " << block;
+        EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, first.c_str(), GL_ARRAY_STRIDE),
+                  GLint(sizeof(std::uint32_t)))
+            << name << " " << block;
+    };
+    for (const char* pass : {"0", "1", "2"}) {
+        const std::string name = std::string("ssao/gtao_fill.comp GTAO_FILL_PASS=") + pass;
+        const gl::Program program = compile(pass);
+        const GLuint p = program.id();
+        expectPixelGroup(p, name);
+        if (blockBinding(p, "Tiles") >= 0) {  // mark, select
+            EXPECT_EQ(blockBinding(p, "Tiles"), k::kFallbackTileBuffer) << name;
+            EXPECT_EQ(variableOffset(p, "tiles[0].mask1"), GLint(offsetof(k::FallbackTile, mask1))) << name;
+            EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, "tiles[0].mask1", GL_TOP_LEVEL_ARRAY_STRIDE),
+                      GLint(sizeof(k::FallbackTile)))
+                << name;
+        }
+        if (blockBinding(p, "TileList") >= 0) {  // mark, select
+            EXPECT_EQ(blockBinding(p, "TileList"), k::kFallbackTileListBuffer) << name;
+            expectList(p, "TileList", "tileList", "listedTiles", name);
+        }
+        if (std::string(pass) != "0") {  // select, fill
+            EXPECT_EQ(blockBinding(p, "WorkList"), k::kFallbackWorkBuffer) << name;
+            expectList(p, "WorkList", "workList", "workItems", name);
+        }
+    }
+    const gl::Program mark = compile("0");
+    EXPECT_EQ(unitOf(mark.id(), "aoImage"), k::kAoImageUnit);
+    EXPECT_EQ(variableOffset(mark.id(), "tiles[0].mask0"), GLint(offsetof(k::FallbackTile, mask0)));
+    EXPECT_EQ(variableOffset(mark.id(), "tiles[0].listed"), GLint(offsetof(k::FallbackTile, listed)));
+    const gl::Program fill = compile("2");
+    const GLuint p = fill.id();
+    EXPECT_EQ(unitOf(p, "aoImage"), k::kAoImageUnit);
+    EXPECT_EQ(unitOf(p, "gDepth"), k::kGBufferDepthUnit);
+    EXPECT_EQ(unitOf(p, "gNormal"), k::kGBufferNormalUnit);
+    EXPECT_EQ(blockBinding(p, "Counters"), k::kFallbackCountersBuffer);
+    EXPECT_EQ(resourceProperty(p, GL_SHADER_STORAGE_BLOCK, "Counters", GL_BUFFER_DATA_SIZE),
+              GLint(sizeof(k::FallbackCounters)));
+    EXPECT_EQ(variableOffset(p, "counters.filled"), GLint(offsetof(k::FallbackCounters, filled)));
+    EXPECT_EQ(variableOffset(p, "counters.blended"), GLint(offsetof(k::FallbackCounters, blended)));
+    EXPECT_EQ(variableOffset(p, "counters.fetchesLow"), GLint(offsetof(k::FallbackCounters, fetchesLow)));
+    EXPECT_EQ(variableOffset(p, "counters.fetchesHigh"), GLint(offsetof(k::FallbackCounters, fetchesHigh)));
+}
+
 TEST_F(GlTest, BlurAndCompositeShadersMatchTheSharedLayout) {
     for (const char* name : {"runtime/blur.comp", "runtime/composite.comp"}) {
         const gl::Program program = gl::compileComputeProgram(name);
@@ -144,6 +208,8 @@ TEST(RuntimeLayout, BindingsAreDistinctPerKind) {
     // The placement count's buffers and the BVH's share the binding space with the run-time passes.
     const std::vector<int> buffers = {k::kTriangleNormalsBuffer, k::kPassCountersBuffer, k::kProbeTableBuffer,
                                       k::kCandidateBuffer,       k::kCoverageProbeBuffer, k::kCoverageCounterBuffer,
+                                      k::kFallbackTileBuffer,    k::kFallbackCountersBuffer, k::kFallbackTileListBuffer,
+                                      k::kFallbackWorkBuffer,    k::kProbeFeedbackBuffer,
                                       int(k::kBvhNodeBuffer),    int(k::kBvhTriangleBuffer)};
     for (const auto* list : {&units, &buffers})
         for (std::size_t i = 0; i < list->size(); ++i)

@@ -1,7 +1,7 @@
 #!/bin/bash
 # The robustness tests of everything that reads files or blocks it did not write (the .cubeao reader
 # with every truncation and byte flip, the BC5 and distance-cube decoders, the bake's cache writer,
-# placement and its CGAL geometry on hand-made meshes)
+# placement and its CGAL geometry on hand-made meshes, the candidate grid and its live updates)
 # under AddressSanitizer + UndefinedBehaviorSanitizer, leak checking on. GL tests are left out: Mesa
 # leaks a few hundred bytes per EGL display, which is not ours to fix.
 set -euo pipefail
@@ -11,4 +11,4 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DCUBEAO_SANITIZE=ON >/dev/nul
 cmake --build build-asan -j2 --target cubeao_tests
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ./build-asan/tests/cubeao_tests \
-  --gtest_filter='CacheFile.*:BcDecode.*:BcEncode.*:BcCube.*:BcBakedProbe.*:DepthCube.*:BakeCacheWriter.*:BakeSettingsCache.*:BakeEncode.*:SolidGeometry.*:Placement.*'
+  --gtest_filter='CacheFile.*:BcDecode.*:BcEncode.*:BcCube.*:BcBakedProbe.*:DepthCube.*:BakeCacheWriter.*:BakeSettingsCache.*:BakeEncode.*:SolidGeometry.*:Placement.*:ProbeGrid.*:ProbeGridLive.*'

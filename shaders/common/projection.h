@@ -4,10 +4,11 @@
 // world area of one probe texel on the surface, and the per-point loop over candidate probes with the
 // soft best-two blend.
 //
-// The loop reads probes through four functions its includer provides; in GLSL they are globals the
+// The loop reads probes through five functions its includer provides; in GLSL they are globals the
 // shader defines (declared below), in C++ they are members of a reader object passed first
 // (projectCandidates is then a template over the reader's type):
 //   uint projectionCandidate(int k)                         probe index of candidate k, kNoProbe = end
+//   bool projectionResident(uint probe)                      its texels are on the GPU (run-time residency)
 //   vec3 projectionProbePosition(uint probe)
 //   float projectionDistance(uint probe, int face, vec2 sc)  decoded distance-cube texel, 0 = empty
 //   vec2 projectionAoConfidence(uint probe, int face, vec2 sc)  (AO, confidence) texel
@@ -50,14 +51,21 @@ CUBEAO_FN bool probeSeesPoint(float stored, float distance, float cosine, Projec
 }
 
 // AO at a point and how many probes gave it: 0 (nobody saw the point: ao = 1, open, the caller's
-// fallback), 1, 2, or 3 when three tie for first.
+// fallback), 1, 2, or 3 when three tie for first. `missing` is the first candidate passed over
+// because it was not resident before any resident one that sees the point (kNoProbe if none; the
+// point then took candidates ranked after it: the "fallback probe" path); probe0/probe1 are the two probes with the largest weights (kNoProbe
+// where fewer were used). The last three are the residency's feedback: what pixels use and want.
 struct ProjectedAo {
     float ao;
     int used;
+    uint missing;
+    uint probe0;
+    uint probe1;
 };
 
 #ifndef __cplusplus
 uint projectionCandidate(int k);
+bool projectionResident(uint probe);
 vec3 projectionProbePosition(uint probe);
 float projectionDistance(uint probe, int face, vec2 sc);
 vec2 projectionAoConfidence(uint probe, int face, vec2 sc);
@@ -71,9 +79,16 @@ CUBEAO_READER_FN ProjectedAo projectCandidates(CUBEAO_READER(reader) int count, 
     best[0] = vec2(0.0f, 1.0f);
     best[1] = best[0];
     best[2] = best[0];
+    uint id0 = kNoProbe, id1 = kNoProbe;  // the probes of best[0] and best[1]
+    uint missing = kNoProbe;
     for (int k = 0; k < count; ++k) {
         uint probe = CUBEAO_READ(reader) projectionCandidate(k);
         if (probe == kNoProbe) break;
+        if (!CUBEAO_READ(reader) projectionResident(probe)) {
+            // Only a candidate ranked before every resident one that sees the point is wanted here.
+            if (missing == kNoProbe && !(best[0].x > 0.0f)) missing = probe;
+            continue;
+        }
         vec3 d = x - CUBEAO_READ(reader) projectionProbePosition(probe);
         float distance = length(d);
         float cosine = -dot(n, d) / distance;
@@ -87,18 +102,22 @@ CUBEAO_READER_FN ProjectedAo projectCandidates(CUBEAO_READER(reader) int count, 
             best[2] = best[1];
             best[1] = best[0];
             best[0] = r;
+            id1 = id0;
+            id0 = probe;
         } else if (r.x > best[1].x) {
             best[2] = best[1];
             best[1] = r;
+            id1 = probe;
         } else if (r.x > best[2].x) {
             best[2] = r;
         }
     }
-    if (!(best[0].x > 0.0f)) return ProjectedAo(1.0f, 0);
+    if (!(best[0].x > 0.0f)) return ProjectedAo(1.0f, 0, missing, kNoProbe, kNoProbe);
     float w0 = best[0].x - best[2].x, w1 = best[1].x - best[2].x;
     // Three or more tie for first: their mean is as continuous as any choice.
-    if (!(w0 + w1 > 0.0f)) return ProjectedAo((best[0].y + best[1].y + best[2].y) / 3.0f, 3);
-    return ProjectedAo((w0 * best[0].y + w1 * best[1].y) / (w0 + w1), int(w0 > 0.0f) + int(w1 > 0.0f));
+    if (!(w0 + w1 > 0.0f)) return ProjectedAo((best[0].y + best[1].y + best[2].y) / 3.0f, 3, missing, id0, id1);
+    return ProjectedAo((w0 * best[0].y + w1 * best[1].y) / (w0 + w1), int(w0 > 0.0f) + int(w1 > 0.0f), missing, id0,
+                       w1 > 0.0f ? id1 : kNoProbe);
 }
 
 // The grid cell (clamped into the grid) holding world point x: the cell whose candidates the

@@ -35,24 +35,91 @@ CUBEAO_CONST int kTriangleNormalsBuffer = 0;  // G-buffer: one world-space vec4 
 CUBEAO_CONST int kPassCountersBuffer = 4;     // project, ssao/*: PassCounters
 CUBEAO_CONST int kProbeTableBuffer = 5;       // project: ProbeEntry per probe, in cache order
 CUBEAO_CONST int kCandidateBuffer = 6;        // project: K probe indices per grid cell (probe_grid.h), kNoProbe = none
+CUBEAO_CONST int kProbeFeedbackBuffer = 16;   // project: per probe, sampled pixels that used or wanted it
 
 // The counters a pass accumulates over a frame (std430). Fetches are G-buffer and probe texture reads,
 // a 64-bit count in two words (a 4K frame at 64 samples passes 2³²; the carry is added by hand).
 struct PassCounters {
     uint fetchesLow;
     uint fetchesHigh;
-    uint uncovered;  // project: pixels with geometry that no candidate probe saw (AO falls back to 1); ssao: 0
-    uint padding;    // to 16 bytes: Mesa rounds the block up to 16 (GL_BUFFER_DATA_SIZE); the buffer must hold it
+    uint uncovered;  // project: pixels with geometry that no resident candidate saw (kUncoveredAo); ssao: 0
+    uint fallbackProbe;  // project: covered pixels that passed over a non-resident candidate on the way; ssao: 0
+    uint geometry;       // project: pixels with geometry (the base of the shares above); ssao: 0
+    uint padding0;       // to 32 bytes: Mesa rounds the block up to 16 (GL_BUFFER_DATA_SIZE); the buffer must hold it
+    uint padding1;
+    uint padding2;
 };
 
-// One probe as the projection reads it (std430; vec3 + float packs into 16 bytes, the array stride).
+// One probe as the projection reads it (std430, 32 bytes: vec3 + float pack into 16, then four words).
+// Indexed by probe id (the cache's order, then probes added at run time); a removed probe keeps its
+// entry with slot = kNoSlot and appears in no cell.
 struct ProbeEntry {
     vec3 position;        // world space
     float distanceScale;  // a distance-atlas value times this is the distance (r16unorm: maxDistance; float formats: 1)
+    uint slot;            // atlas slot holding its texels (probe_residency.h), kNoSlot = not resident
+    uint padding0;
+    uint padding1;
+    uint padding2;
 };
+
+// ProbeEntry::slot of a probe whose texels are not on the GPU.
+CUBEAO_CONST uint kNoSlot = 0xffffffffu;
 
 // An unused slot of a cell's candidate list (cells in x-fastest order, K slots each, best first).
 CUBEAO_CONST uint kNoProbe = 0xffffffffu;
+
+// Raw AO the projection writes where no resident candidate probe sees the pixel's surface: not an AO
+// value (those lie in [0, 1]) but a request to the screen-space fallback (runtime/ao_pass.h
+// AoFallback), which replaces it before the blur. Any value below 0 means the same.
+CUBEAO_CONST float kUncoveredAo = -1.0f;
+
+// The screen-space fallback for those pixels (shaders/ssao/gtao_fill.comp, src/cubeao/ssao/gtao_fallback.cpp).
+// Three dispatches: mark sets a bit per uncovered pixel in its 8 × 8 tile's mask (FallbackTile) and
+// lists the tiles within kFallbackBlendPixels of one (a FallbackList of tile indices); select, a work
+// group per listed tile, lists the pixels that take GTAO (a FallbackList of packed pixels,
+// fallbackWorkItem) deciding from the masks alone, never from the AO image; fill runs GTAO for those
+// pixels only, 64 to a work group, and writes each pixel's own texel.
+CUBEAO_CONST int kFallbackTileBuffer = 12;      // gtao_fill: FallbackTile per tile, tiles in x-fastest order
+CUBEAO_CONST int kFallbackCountersBuffer = 13;  // gtao_fill: FallbackCounters
+CUBEAO_CONST int kFallbackTileListBuffer = 14;  // gtao_fill: FallbackList, then a uint tile index per listed tile
+CUBEAO_CONST int kFallbackWorkBuffer = 15;      // gtao_fill: FallbackList, then a uint work item per pixel to fill
+// The blend band: a covered pixel at distance d (pixels, Euclidean) from the nearest uncovered one
+// takes mix(its AO, GTAO, max(0, 1 − d / kFallbackBlendPixels)). At most kPixelGroupSize (the band
+// around a tile lies in its 8 neighbours).
+CUBEAO_CONST int kFallbackBlendPixels = 4;
+
+// One 8 × 8 tile of the frame (std430, 16 bytes).
+struct FallbackTile {
+    uint mask0;    // its uncovered pixels (x, y) in rows 0–3: bit 8·y + x
+    uint mask1;    // rows 4–7: bit 8·(y − 4) + x
+    uint listed;   // 1 once the tile is in the list of tiles to fill
+    uint padding;
+};
+
+// The head of a list the fallback builds on the GPU (std430): glDispatchComputeIndirect's command for
+// the dispatch that consumes it, then the number of entries, which follow at byte 16. The C++ side
+// resets it to {0, 1, 1, 0} every frame.
+struct FallbackList {
+    uint groupsX;  // tile list: one group per entry; work list: ⌈entries / 64⌉
+    uint groupsY;
+    uint groupsZ;
+    uint entries;
+};
+
+// A pixel that takes GTAO: x, y (13 bits each: frames up to 8192 pixels a side) and its squared
+// distance to the nearest uncovered pixel (6 bits; 0 = uncovered itself, < kFallbackBlendPixels²).
+CUBEAO_CONST int kFallbackMaxFrameSide = 8192;
+CUBEAO_FN uint fallbackWorkItem(int x, int y, int squaredDistance) {
+    return uint(x) | (uint(y) << 13u) | (uint(squaredDistance) << 26u);
+}
+
+// What the fallback did in a frame (std430).
+struct FallbackCounters {
+    uint filled;       // pixels that were uncovered (raw AO < 0) and took the GTAO value
+    uint blended;      // covered pixels with geometry that took part of it (0 < weight < 1)
+    uint fetchesLow;   // G-buffer fetches of the GTAO runs, 64-bit in two words as in PassCounters
+    uint fetchesHigh;
+};
 
 CUBEAO_KERNEL_END
 
@@ -60,9 +127,17 @@ CUBEAO_KERNEL_END
 #include <cstddef>
 
 namespace cubeao::kernel {
-static_assert(sizeof(PassCounters) == 16 && offsetof(PassCounters, fetchesHigh) == 4 &&
-              offsetof(PassCounters, uncovered) == 8);
-static_assert(sizeof(ProbeEntry) == 16 && offsetof(ProbeEntry, distanceScale) == 12);
+static_assert(sizeof(PassCounters) == 32 && offsetof(PassCounters, fetchesHigh) == 4 &&
+              offsetof(PassCounters, uncovered) == 8 && offsetof(PassCounters, fallbackProbe) == 12 &&
+              offsetof(PassCounters, geometry) == 16);
+static_assert(sizeof(ProbeEntry) == 32 && offsetof(ProbeEntry, distanceScale) == 12 && offsetof(ProbeEntry, slot) == 16);
+static_assert(sizeof(FallbackTile) == 16 && offsetof(FallbackTile, mask1) == 4 &&
+              offsetof(FallbackTile, listed) == 8);
+static_assert(sizeof(FallbackList) == 16 && offsetof(FallbackList, groupsZ) == 8 &&
+              offsetof(FallbackList, entries) == 12);
+static_assert(sizeof(FallbackCounters) == 16 && offsetof(FallbackCounters, blended) == 4 &&
+              offsetof(FallbackCounters, fetchesLow) == 8 && offsetof(FallbackCounters, fetchesHigh) == 12);
+static_assert(kFallbackBlendPixels >= 1 && kFallbackBlendPixels <= kPixelGroupSize);  // d² < 64: 6 bits
 
 // Work groups that cover n pixels along one axis.
 constexpr unsigned pixelGroups(int n) { return unsigned((n + kPixelGroupSize - 1) / kPixelGroupSize); }

@@ -4,6 +4,14 @@
 // probes of its world cell (src/cubeao/runtime/probe_grid.h), and projectCandidates of
 // common/projection.h (depth test, quality, soft best-two blend), whose C++ compilation is the CPU twin
 // (src/cubeao/runtime/projection.h). This file only supplies the reads: atlas textures and buffers.
+//
+// Residency (src/cubeao/runtime/probe_residency.h): a probe's texels sit in atlas slot
+// probes[id].slot, or nowhere (kNoSlot): the loop then passes it over and takes the next resident
+// candidate. A pixel no resident candidate sees gets `uncoveredAo` (kUncoveredAo when a screen-space
+// fallback fills it afterwards, 1 = open without one). Every 4th pixel in x and y counts, weighted, the
+// probes it blended and a better-ranked candidate it had to pass over (its demand), which the residency reads back
+// frames later (sampled feedback, as virtual texturing does): it loads what pixels ask for and keeps
+// what they use.
 #include "camera.h"
 #include "cube.h"
 #include "projection.h"
@@ -13,7 +21,7 @@ layout(local_size_x = kPixelGroupSize, local_size_y = kPixelGroupSize) in;
 
 layout(binding = kGBufferDepthUnit) uniform sampler2D depthTex;
 layout(binding = kGBufferNormalUnit) uniform sampler2D normalTex;
-// Probe atlases (probe_projection.h ProbeAtlasLayout): a probe is a tile, layer 6·page + face.
+// Probe atlases (probe_projection.h ProbeAtlasLayout): a slot is a tile, layer 6·page + face.
 layout(binding = kProbeAoUnit) uniform sampler2DArray aoTex;              // res² tiles
 layout(binding = kProbeDistanceUnit) uniform sampler2DArray distanceTex;  // depthRes² tiles
 layout(r32f, binding = kAoImageUnit) writeonly uniform image2D aoOut;
@@ -21,6 +29,7 @@ layout(r32f, binding = kAoImageUnit) writeonly uniform image2D aoOut;
 layout(std430, binding = kProbeTableBuffer) readonly buffer ProbeTable { ProbeEntry probes[]; };
 layout(std430, binding = kCandidateBuffer) readonly buffer Candidates { uint candidates[]; };
 layout(std430, binding = kPassCountersBuffer) buffer Counters { PassCounters counters; };
+layout(std430, binding = kProbeFeedbackBuffer) buffer Feedback { uint demand[]; };
 
 uniform mat4 worldFromView;
 uniform vec3 gridOrigin;
@@ -30,21 +39,28 @@ uniform int candidatesPerCell;
 uniform int tilesX;
 uniform int tilesPerPage;
 uniform ProjectionParams params;
+uniform float uncoveredAo;
 
-shared uint groupUncovered, groupFetches;
+shared uint groupUncovered, groupFallback, groupGeometry, groupFetches;
 
 uint cellBase = 0u;  // first candidate slot of the pixel's cell
 uint fetches = 0u;   // texture fetches of this invocation
 
-// Texel of direction sc on `face` of `probe` in an atlas of size² tiles.
+// Texel of direction sc on `face` of resident `probe` in an atlas of size² tiles.
 ivec3 atlasTexel(uint probe, int face, vec2 sc, int size) {
-    int tile = int(probe) % tilesPerPage;
+    int slot = int(probes[probe].slot);
+    int tile = slot % tilesPerPage;
     ivec2 corner = ivec2(tile % tilesX, tile / tilesX) * size;
-    return ivec3(corner + cubeTexelOf(sc, size), 6 * (int(probe) / tilesPerPage) + face);
+    return ivec3(corner + cubeTexelOf(sc, size), 6 * (slot / tilesPerPage) + face);
+}
+
+void demandProbe(uint probe, uint weight) {
+    if (probe != kNoProbe) atomicAdd(demand[probe], weight);
 }
 
 // The reads projectCandidates makes (common/projection.h).
 uint projectionCandidate(int k) { return candidates[cellBase + uint(k)]; }
+bool projectionResident(uint probe) { return probes[probe].slot != kNoSlot; }
 vec3 projectionProbePosition(uint probe) { return probes[probe].position; }
 float projectionDistance(uint probe, int face, vec2 sc) {
     fetches += 1u;
@@ -58,6 +74,8 @@ vec2 projectionAoConfidence(uint probe, int face, vec2 sc) {
 void main() {
     if (gl_LocalInvocationIndex == 0u) {
         groupUncovered = 0u;
+        groupFallback = 0u;
+        groupGeometry = 0u;
         groupFetches = 0u;
     }
     barrier();
@@ -74,7 +92,21 @@ void main() {
             cellBase = uint((cell.z * gridDims.y + cell.y) * gridDims.x + cell.x) * uint(candidatesPerCell);
             ProjectedAo projected = projectCandidates(candidatesPerCell, x, n, params);
             ao = projected.ao;
-            if (projected.used == 0) atomicAdd(groupUncovered, 1u);  // fallback: open (counted as uncovered_fraction)
+            atomicAdd(groupGeometry, 1u);
+            if (projected.used == 0) {
+                ao = uncoveredAo;
+                atomicAdd(groupUncovered, 1u);
+            } else if (projected.missing != kNoProbe) {
+                atomicAdd(groupFallback, 1u);
+            }
+            if ((px.x & 3) == 0 && (px.y & 3) == 0) {
+                // Weight 2 for the probe the point wants most: the missing one ranked first, else
+                // the best it used; 1 for its blend partner. A probe every pixel blends cannot then
+                // outweigh one the pixels would rather have.
+                demandProbe(projected.missing != kNoProbe ? projected.missing : projected.probe0, 2u);
+                if (projected.missing != kNoProbe) demandProbe(projected.probe0, 1u);
+                demandProbe(projected.probe1, 1u);
+            }
         }
         imageStore(aoOut, px, vec4(ao));
     }
@@ -82,6 +114,8 @@ void main() {
     barrier();
     if (gl_LocalInvocationIndex == 0u) {
         atomicAdd(counters.uncovered, groupUncovered);
+        atomicAdd(counters.fallbackProbe, groupFallback);
+        atomicAdd(counters.geometry, groupGeometry);
         uint before = atomicAdd(counters.fetchesLow, groupFetches);
         if (before + groupFetches < before) atomicAdd(counters.fetchesHigh, 1u);
     }

@@ -35,6 +35,8 @@ struct RenderArgs {
     std::string scene, camera, out, cache, frames, method, falloff = "none";  // method "": withDefaults
     int width = 0, height = 0, directions = 0, steps = 0, blur = BlurSettings{}.radius;
     float radius = 0.0f, alpha = 1.0f, alchemySigma = 0.0f;
+    double gpuBudgetMb = 0.0, uploadMb = 0.0;  // probes: 0 = everything resident; 0 = the default bound
+    std::string fallback = "gtao";
     std::uint32_t seed = 0;
     bool json = false;
 };
@@ -61,7 +63,10 @@ SsaoMethod parseMethod(const RenderArgs& a) {
 struct PassSettings {
     SsaoSettings ssao;  // radius still 0 = scene default until the scene is loaded
     BlurSettings blur;
+    ProbeProjectionSettings probes;
 };
+
+constexpr double kMib = 1024.0 * 1024.0;
 
 // Every usage error, before any file is read.
 PassSettings usageChecked(const RenderArgs& a) {
@@ -78,6 +83,15 @@ PassSettings usageChecked(const RenderArgs& a) {
     if (!(a.alpha >= 0.0f && a.alpha <= 1.0f)) throw UsageError("--alpha must lie in [0, 1]");
     if (!a.cache.empty() && a.method != "probes")
         spdlog::warn("render: --cache is used only by --method probes; ignored for {}", a.method);
+    // Budgets: 1 TiB is beyond any GPU made; the lower bound is checked against the cache once it is read.
+    if (!(a.gpuBudgetMb >= 0.0 && a.gpuBudgetMb <= 1024.0 * 1024.0))
+        throw UsageError("--gpu-budget-mb must lie in [0, 1048576] (0 = every probe resident)");
+    if (!(a.uploadMb >= 0.0 && a.uploadMb <= 65536.0))
+        throw UsageError("--upload-mb must lie in [0, 65536] (0 = the default, 8)");
+    if (a.fallback != "gtao" && a.fallback != "none")
+        throw UsageError("--fallback \"" + a.fallback + "\": expected gtao or none");
+    p.probes.residency.gpuBudgetBytes = std::size_t(a.gpuBudgetMb * kMib);
+    p.probes.residency.uploadBytesPerFrame = std::size_t(a.uploadMb * kMib);
     return p;
 }
 
@@ -94,6 +108,30 @@ nlohmann::json writeFrame(const fs::path& out, std::size_t f, const RenderedFram
             {"timings_ms",
              {{"gbuffer", t.gbuffer}, {"ao", t.ao}, {"blur", t.blur}, {"composite", t.composite}, {"readback", t.readback}}}};
 }
+
+// Per frame: where the pixels' AO came from and what the residency did; sums for the run.
+struct PixelShares {
+    double probes = 0.0, fallbackProbe = 0.0, uncovered = 0.0, screenSpace = 0.0, blended = 0.0;
+
+    nlohmann::json add(const ProbeProjectionPass& p) {
+        const double u = p.uncoveredFraction(), fb = p.fallbackProbeFraction();
+        const double geometry = std::max(p.geometryFraction(), u + fb);  // exact counts; no rounding below 0
+        const double filled = p.fallback() ? p.fallback()->filledFraction() : 0.0;
+        const double blend = p.fallback() ? p.fallback()->blendedFraction() : 0.0;
+        probes += geometry - u - fb, fallbackProbe += fb, uncovered += u, screenSpace += filled, blended += blend;
+        const ResidencyStats& r = p.residency().stats();
+        return {{"pixels_probes", geometry - u - fb}, {"pixels_fallback_probe", fb},   {"pixels_uncovered", u},
+                {"pixels_screen_space", filled},      {"pixels_blended", blend},       {"resident", r.resident},
+                {"uploads", r.frameUploads},          {"upload_bytes", r.frameUploadBytes},
+                {"upload_ms", r.frameUploadMs}};
+    }
+    // Means over the frames, as shares of all pixels.
+    nlohmann::json json(std::size_t frames) const {
+        const double n = double(std::max<std::size_t>(frames, 1));
+        return {{"probes", probes / n},        {"fallback_probe", fallbackProbe / n}, {"uncovered", uncovered / n},
+                {"screen_space", screenSpace / n}, {"blended", blended / n}};
+    }
+};
 
 void run(const RenderArgs& a) {
     PassSettings settings = usageChecked(a);
@@ -120,9 +158,11 @@ void run(const RenderArgs& a) {
                  scene.triangleCount(), a.method, range.begin, range.end, w, h, ssao.radius,
                  context.renderer());
     const CompositeSettings composite = compositeFor(scene, a.alpha);
-    FrameRenderer renderer(scene.positions, scene.indices, makeAoPass(ssao, cache.get(), scene), settings.blur, composite);
+    FrameRenderer renderer(scene.positions, scene.indices,
+                           makeAoPass(ssao, cache.get(), scene, settings.probes, a.fallback == "gtao"), settings.blur,
+                           composite);
     auto* projection = dynamic_cast<ProbeProjectionPass*>(&renderer.method());
-    double uncovered = 0.0;
+    PixelShares shares;
 
     nlohmann::json frames = nlohmann::json::array();
     std::vector<PassTimings> timings;
@@ -131,9 +171,9 @@ void run(const RenderArgs& a) {
     for (std::size_t f = range.begin; f < range.end; ++f) {
         const RenderedFrame frame = renderer.render(frameView(path, f, w, h), std::uint32_t(f));
         fetches += renderer.method().fetchesPerPixel();
-        if (projection) uncovered += projection->uncoveredFraction();
         timings.push_back(frame.timings);
         frames.push_back(writeFrame(a.out, f, frame));
+        if (projection) frames.back()["probes"] = shares.add(*projection);
         progress.advance();
     }
     const double fetchesPerPixel = fetches / double(range.size());
@@ -159,10 +199,22 @@ void run(const RenderArgs& a) {
                                    {"fetches_per_pixel_planned", plannedFetchesPerPixel(ssao)},
                                    {"blur_fetches_per_pixel", renderer.blur().fetchesPerPixel()},
                                    {"out", a.out}};
+    result["peak_rss_mb"] = peakRssMib();
     if (projection) {
-        result["uncovered_fraction"] = uncovered / double(range.size());
+        const ResidencyStats& r = projection->residency().stats();
+        result["uncovered_fraction"] = shares.uncovered / double(range.size());
+        result["pixels"] = shares.json(range.size());
         result["cache"] = a.cache;
         result["probes"] = cache->probeCount();
+        result["residency"] = {{"gpu_budget_mb", a.gpuBudgetMb},
+                               {"gpu_bytes", projection->gpuBytes()},
+                               {"slots", r.slots},
+                               {"resident", r.resident},
+                               {"loads", r.loads},
+                               {"evictions", r.evictions},
+                               {"upload_bound_bytes", projection->residency().uploadBound()},
+                               {"max_frame_upload_bytes", r.maxFrameUploadBytes},
+                               {"fallback", a.fallback}};
     }
     std::ofstream(fs::path(a.out) / "render.json") << result.dump(1) << '\n';
     std::printf("render: %s, %zu frames -> %s; median ms: G-buffer %.2f, AO %.2f, blur %.2f, composite %.2f, "
@@ -197,6 +249,11 @@ void addRender(CLI::App& app) {
     cmd->add_option("--blur", a->blur, "Blur taps on each side per pass, 0 = off")->capture_default_str();
     cmd->add_option("--alpha", a->alpha, "AO strength in the preview: i = i_s((1-a) + a*ao)")->capture_default_str();
     cmd->add_option("--seed", a->seed, "Changes every pixel's jitter");
+    cmd->add_option("--gpu-budget-mb", a->gpuBudgetMb,
+                    "probes: GPU memory for probes, grid and staging, MiB; probes stream in by priority (default 0: all resident)");
+    cmd->add_option("--upload-mb", a->uploadMb, "probes: bytes uploaded per frame at most, MiB (default 8)");
+    cmd->add_option("--fallback", a->fallback, "probes: what pixels no resident probe sees get: gtao | none (open)")
+        ->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
     cmd->callback([a] { run(withDefaults(*a)); });
 }

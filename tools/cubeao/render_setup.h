@@ -6,6 +6,8 @@
 #include <memory>
 #include <vector>
 
+#include <sys/resource.h>
+
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
@@ -13,16 +15,32 @@
 #include "cubeao/runtime/probe_projection.h"
 #include "cubeao/runtime/renderer.h"
 #include "cubeao/scene/scene.h"
+#include "cubeao/ssao/gtao_fallback.h"
 #include "cubeao/ssao/ssao_pass.h"
 
 namespace cubeao::cli {
 
 // The method as a pass from the camera G-buffer to raw AO; blur and composite are shared. With a
-// cache: the probe projection (grid over the scene's bounds); without: the baseline `ssao` names
-// (resolved settings).
-inline std::unique_ptr<AoPass> makeAoPass(const SsaoSettings& ssao, const CacheReader* cache, const Scene& scene) {
-    if (cache) return std::make_unique<ProbeProjectionPass>(*cache, scene.positions, scene.indices);
-    return std::make_unique<SsaoPass>(ssao);
+// cache: the probe projection (grid over the scene's bounds, residency per `probes`), its uncovered
+// pixels filled by GTAO with `ssao`'s settings unless `fallback` is off; without: the baseline `ssao`
+// names (resolved settings). The cache must outlive the pass (probes stream from it).
+inline std::unique_ptr<AoPass> makeAoPass(const SsaoSettings& ssao, const CacheReader* cache, const Scene& scene,
+                                          const ProbeProjectionSettings& probes = {}, bool fallback = true) {
+    if (!cache) return std::make_unique<SsaoPass>(ssao);
+    auto pass = std::make_unique<ProbeProjectionPass>(*cache, scene.positions, scene.indices, probes);
+    if (fallback) {
+        SsaoSettings gtao = ssao;
+        gtao.method = SsaoMethod::Gtao;
+        pass->setFallback(std::make_unique<GtaoFallback>(gtao));
+    }
+    return pass;
+}
+
+// Peak resident set of this process so far (getrusage), MiB.
+inline double peakRssMib() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
 // The camera path's frame `frame` at width × height.

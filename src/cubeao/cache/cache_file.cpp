@@ -663,6 +663,39 @@ ProbeView CacheReader::probe(std::size_t i) const {
     return {e.index, e.position, e.maxDistance, {data_ + e.aoOffset, e.aoSize}, {data_ + e.depthOffset, e.depthSize}};
 }
 
+namespace {
+
+// The whole pages inside [offset, offset + size) of a mapping, as madvise wants them (page-aligned
+// start); partial pages at the ends are left alone (a neighbour may be in use).
+void advisePages(const std::uint8_t* data, std::uint64_t offset, std::uint64_t size, int advice) {
+    if (!data || size == 0) return;
+    const auto page = std::uint64_t(::sysconf(_SC_PAGESIZE));
+    const std::uint64_t first = (offset + page - 1) / page * page, last = (offset + size) / page * page;
+    if (last > first) ::madvise(const_cast<std::uint8_t*>(data) + first, last - first, advice);
+}
+
+}  // namespace
+
+void CacheReader::prefetch(std::size_t i) const {
+    const Entry& e = entry(i);
+    const auto page = std::uint64_t(::sysconf(_SC_PAGESIZE));
+    // WILLNEED on the pages around each section (reading a neighbour's page early is harmless).
+    for (const auto& [offset, size] : {std::pair(e.aoOffset, e.aoSize), std::pair(e.depthOffset, e.depthSize)}) {
+        const std::uint64_t first = offset / page * page;
+        if (data_ && size > 0) ::madvise(const_cast<std::uint8_t*>(data_) + first, offset + size - first, MADV_WILLNEED);
+    }
+}
+
+void CacheReader::release(std::size_t i) const {
+    const Entry& e = entry(i);
+    advisePages(data_, e.aoOffset, e.aoSize, MADV_DONTNEED);
+    advisePages(data_, e.depthOffset, e.depthSize, MADV_DONTNEED);
+}
+
+void CacheReader::releaseAll() const {
+    if (data_) ::madvise(const_cast<std::uint8_t*>(data_), size_, MADV_DONTNEED);
+}
+
 ProbeRecord CacheReader::copyProbe(std::size_t i) const {
     const ProbeView v = probe(i);
     return {v.index, v.position, v.maxDistance, {v.aoConfidence.begin(), v.aoConfidence.end()},

@@ -26,4 +26,21 @@ public:
     virtual double fetchesPerPixel() const = 0;
 };
 
+// What a method without an answer for some pixels calls to fill them (the probe projection, for
+// pixels no resident probe sees: DESIGN.md §4 "Run time that grows"). The runtime library defines
+// the interface; the screen-space fallback (GTAO, src/cubeao/ssao/) implements it, so the runtime
+// does not depend on the baselines.
+class AoFallback {
+public:
+    virtual ~AoFallback() = default;
+    // Replaces every pixel of `aoImage` (R32F, bound as an image) whose value is below 0
+    // (kernel::kUncoveredAo) by a screen-space estimate for `gbuffer`, and blends that estimate into
+    // covered pixels next to them so no seam shows. Issues GL commands only: no wait, no read-back.
+    virtual void fill(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) = 0;
+    // Pixels of the last frame that took the screen-space value entirely / partly (blended at the
+    // boundary), over all pixels. May wait for the frame: call it after the frame, not inside it.
+    virtual double filledFraction() const = 0;
+    virtual double blendedFraction() const = 0;
+};
+
 }  // namespace cubeao

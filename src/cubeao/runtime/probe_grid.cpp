@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
+#include <string>
 
 #include <glm/geometric.hpp>
 
 #include "common/projection.h"
 #include "common/runtime_layout.h"
+#include "cubeao/core/error.h"
 #include "cubeao/core/sampling.h"
 
 namespace cubeao {
@@ -98,11 +101,12 @@ std::vector<SurfacePoint> sampleSurface(std::span<const glm::vec3> positions, st
 }
 
 ProbeGrid::ProbeGrid(const glm::vec3& boundsMin, const glm::vec3& boundsMax, std::span<const glm::vec3> probes,
-                     std::span<const SurfacePoint> points, const QualityFn& quality, ProbeGridSettings s) {
+                     std::span<const SurfacePoint> points, QualityFn quality, ProbeGridSettings s)
+    : quality_(std::move(quality)), probes_(probes.begin(), probes.end()), alive_(probes.size(), true),
+      live_(probes.size()) {
     k_ = s.candidates > 0 ? s.candidates : 8;
     const int maxCells = s.maxCells > 0 ? s.maxCells : 1 << 20;
-    const std::size_t considered =
-        std::min(probes.size(), std::size_t(s.considered > 0 ? s.considered : std::max(8 * k_, 64)));
+    considered_ = std::size_t(s.considered > 0 ? s.considered : std::max(8 * k_, 64));
     const std::size_t perCell = std::size_t(s.pointsPerCell > 0 ? s.pointsPerCell : 128);
     const glm::vec3 extent = glm::max(boundsMax - boundsMin, glm::vec3(1e-6f));
     cell_ = s.cellSize > 0.0f ? s.cellSize : std::max({extent.x, extent.y, extent.z}) / 32.0f;
@@ -115,42 +119,78 @@ ProbeGrid::ProbeGrid(const glm::vec3& boundsMin, const glm::vec3& boundsMax, std
     origin_ = boundsMin;
     const std::size_t cells = std::size_t(dims_.x) * std::size_t(dims_.y) * std::size_t(dims_.z);
     table_.assign(cells * std::size_t(k_), kNone);
+    reach2_.assign(cells, std::numeric_limits<float>::infinity());
 
     // Each cell's points, at most perCell of them: a fixed random subset, not the first triangles'.
     std::vector<std::uint32_t> order(points.size());
     std::iota(order.begin(), order.end(), 0u);
     std::shuffle(order.begin(), order.end(), std::mt19937(12345u));
-    std::vector<std::vector<std::uint32_t>> cellPoints(cells);
+    cellPoints_.resize(cells);
     for (std::uint32_t i : order) {
-        std::vector<std::uint32_t>& list = cellPoints[cellOf(points[i].position)];
-        if (list.size() < perCell) list.push_back(i);
+        std::vector<SurfacePoint>& list = cellPoints_[cellOf(points[i].position)];
+        if (list.size() < perCell) list.push_back(points[i]);
     }
+    for (std::size_t c = 0; c < cells; ++c) choose(c);
+}
 
-    std::vector<std::uint32_t> byDistance(probes.size());
-    std::vector<float> distance2(probes.size());
-    std::vector<double> q;
-    for (int z = 0; z < dims_.z; ++z)
-        for (int y = 0; y < dims_.y; ++y)
-            for (int x = 0; x < dims_.x; ++x) {
-                const std::size_t cell = (std::size_t(z) * std::size_t(dims_.y) + std::size_t(y)) * std::size_t(dims_.x) + std::size_t(x);
-                const glm::vec3 centre = origin_ + (glm::vec3(x, y, z) + 0.5f) * cell_;
-                for (std::uint32_t p = 0; p < probes.size(); ++p) {
-                    const glm::vec3 d = probes[p] - centre;
-                    distance2[p] = glm::dot(d, d);
-                }
-                std::iota(byDistance.begin(), byDistance.end(), 0u);
-                const auto nearer = [&](std::uint32_t a, std::uint32_t b) {
-                    return distance2[a] != distance2[b] ? distance2[a] < distance2[b] : a < b;
-                };
-                std::partial_sort(byDistance.begin(), byDistance.begin() + std::ptrdiff_t(considered), byDistance.end(),
-                                  nearer);
-                const std::span<const std::uint32_t> nearest(byDistance.data(), considered);
-                const std::vector<std::uint32_t>& mine = cellPoints[cell];
-                q.assign(considered * mine.size(), 0.0);
-                for (std::size_t p = 0; p < considered; ++p)
-                    for (std::size_t i = 0; i < mine.size(); ++i) q[p * mine.size() + i] = quality(nearest[p], points[mine[i]]);
-                chooseCandidates(nearest, q, mine.size(), k_, table_.data() + cell * std::size_t(k_));
-            }
+glm::vec3 ProbeGrid::cellCentre(std::size_t c) const {
+    const std::size_t x = c % std::size_t(dims_.x), y = (c / std::size_t(dims_.x)) % std::size_t(dims_.y),
+                      z = c / (std::size_t(dims_.x) * std::size_t(dims_.y));
+    return origin_ + (glm::vec3(float(x), float(y), float(z)) + 0.5f) * cell_;
+}
+
+void ProbeGrid::choose(std::size_t cell) {
+    std::uint32_t* out = table_.data() + cell * std::size_t(k_);
+    std::fill(out, out + k_, kNone);
+    const glm::vec3 centre = cellCentre(cell);
+    order_.clear();
+    distance2_.resize(probes_.size());
+    for (std::uint32_t p = 0; p < probes_.size(); ++p) {
+        if (!alive_[p]) continue;
+        const glm::vec3 d = probes_[p] - centre;
+        distance2_[p] = glm::dot(d, d);
+        order_.push_back(p);
+    }
+    const std::size_t considered = std::min(order_.size(), considered_);
+    const auto nearer = [&](std::uint32_t a, std::uint32_t b) {
+        return distance2_[a] != distance2_[b] ? distance2_[a] < distance2_[b] : a < b;
+    };
+    std::partial_sort(order_.begin(), order_.begin() + std::ptrdiff_t(considered), order_.end(), nearer);
+    // Everyone competes while there are no more live probes than `considered`: any new one joins.
+    reach2_[cell] = order_.size() <= considered_ ? std::numeric_limits<float>::infinity()
+                                                : distance2_[order_[considered - 1]];
+    if (considered == 0) return;
+    const std::span<const std::uint32_t> nearest(order_.data(), considered);
+    const std::vector<SurfacePoint>& mine = cellPoints_[cell];
+    quality2_.assign(considered * mine.size(), 0.0);
+    for (std::size_t p = 0; p < considered; ++p)
+        for (std::size_t i = 0; i < mine.size(); ++i) quality2_[p * mine.size() + i] = quality_(nearest[p], mine[i]);
+    chooseCandidates(nearest, quality2_, mine.size(), k_, out);
+}
+
+std::vector<std::size_t> ProbeGrid::rechooseAround(const glm::vec3& position) {
+    std::vector<std::size_t> changed;
+    for (std::size_t c = 0; c < reach2_.size(); ++c) {
+        const glm::vec3 d = position - cellCentre(c);
+        // ≤, not <: at equal distance the id decides, and re-choosing is always safe.
+        if (glm::dot(d, d) <= reach2_[c]) changed.push_back(c);
+    }
+    for (std::size_t c : changed) choose(c);
+    return changed;
+}
+
+std::vector<std::size_t> ProbeGrid::addProbe(const glm::vec3& position) {
+    probes_.push_back(position);
+    alive_.push_back(true);
+    ++live_;
+    return rechooseAround(position);
+}
+
+std::vector<std::size_t> ProbeGrid::removeProbe(std::uint32_t id) {
+    if (!isLive(id)) throw Error("ProbeGrid::removeProbe: no live probe " + std::to_string(id));
+    alive_[id] = false;
+    --live_;
+    return rechooseAround(probes_[id]);
 }
 
 std::size_t ProbeGrid::cellOf(const glm::vec3& x) const {
@@ -158,8 +198,10 @@ std::size_t ProbeGrid::cellOf(const glm::vec3& x) const {
     return (std::size_t(c.z) * std::size_t(dims_.y) + std::size_t(c.y)) * std::size_t(dims_.x) + std::size_t(c.x);
 }
 
-std::span<const std::uint32_t> ProbeGrid::candidates(const glm::vec3& x) const {
-    const std::uint32_t* first = table_.data() + cellOf(x) * std::size_t(k_);
+std::span<const std::uint32_t> ProbeGrid::candidates(const glm::vec3& x) const { return cellCandidates(cellOf(x)); }
+
+std::span<const std::uint32_t> ProbeGrid::cellCandidates(std::size_t c) const {
+    const std::uint32_t* first = table_.data() + c * std::size_t(k_);
     std::size_t n = 0;
     while (n < std::size_t(k_) && first[n] != kNone) ++n;
     return {first, n};

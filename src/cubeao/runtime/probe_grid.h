@@ -46,16 +46,42 @@ struct SurfacePoint {
 std::vector<SurfacePoint> sampleSurface(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
                                         float spacing, std::size_t maxPoints = std::size_t(1) << 22);
 
+// The probe set is live (DESIGN.md §4 "Run time that grows"): probes can be added and removed after
+// construction, and only the cells whose competition a probe joins or leaves are chosen again, with
+// the same rule, so the table always equals the one a grid built from scratch over the same probes
+// (same ids, same order) would hold. A cell's competition is its `considered` nearest live probes; a
+// probe changes it only if it lies within the farthest of them (all cells when there are no more live
+// probes than `considered`).
 class ProbeGrid {
 public:
-    // quality(probe, point) ≥ 0: how well `probe` shades `point`; 0 = not at all.
+    // quality(probe, point) ≥ 0: how well `probe` shades `point`; 0 = not at all. Kept and called
+    // again when probes are added or removed.
     using QualityFn = std::function<double(std::uint32_t probe, const SurfacePoint& point)>;
 
+    // Probe ids are the indices of `probes`.
     ProbeGrid(const glm::vec3& boundsMin, const glm::vec3& boundsMax, std::span<const glm::vec3> probes,
-              std::span<const SurfacePoint> points, const QualityFn& quality, ProbeGridSettings settings);
+              std::span<const SurfacePoint> points, QualityFn quality, ProbeGridSettings settings);
+
+    // Adds a probe with the next id (probeCount() before the call) and returns the cells chosen again
+    // (ascending).
+    std::vector<std::size_t> addProbe(const glm::vec3& position);
+    // Takes probe `id` out of every cell (its id is not reused) and returns the cells chosen again.
+    // Error for an unknown or already removed id.
+    std::vector<std::size_t> removeProbe(std::uint32_t id);
+    std::size_t probeCount() const { return probes_.size(); }  // ids issued, removed ones included
+    std::size_t liveProbes() const { return live_; }
+    bool isLive(std::uint32_t id) const { return id < alive_.size() && alive_[id]; }
+    const glm::vec3& probePosition(std::uint32_t id) const { return probes_[id]; }
 
     // Candidates of the cell containing x (clamped to the grid): up to K probe indices, best first.
     std::span<const std::uint32_t> candidates(const glm::vec3& x) const;
+    // The same for cell c (x-fastest index), and the cell's centre.
+    std::span<const std::uint32_t> cellCandidates(std::size_t c) const;
+    glm::vec3 cellCentre(std::size_t c) const;
+    std::size_t cellCount() const { return reach2_.size(); }
+    std::size_t cellIndex(const glm::ivec3& c) const {
+        return (std::size_t(c.z) * std::size_t(dims_.y) + std::size_t(c.y)) * std::size_t(dims_.x) + std::size_t(c.x);
+    }
 
     // GPU layout: cells in x-fastest order, K entries each, unused entries = kernel::kNoProbe
     // (shaders/common/runtime_layout.h).
@@ -67,12 +93,26 @@ public:
 
 private:
     std::size_t cellOf(const glm::vec3& x) const;
+    void choose(std::size_t cell);  // the cell's K from its `considered` nearest live probes
+    // Cells whose competition includes a probe at `position`, chosen again.
+    std::vector<std::size_t> rechooseAround(const glm::vec3& position);
 
     glm::vec3 origin_{0.0f};
     glm::ivec3 dims_{1};
     float cell_ = 1.0f;
     int k_ = 8;
+    std::size_t considered_ = 0;  // competitors per cell (the setting; fewer while fewer probes live)
     std::vector<std::uint32_t> table_;
+    QualityFn quality_;
+    std::vector<glm::vec3> probes_;
+    std::vector<bool> alive_;
+    std::size_t live_ = 0;
+    std::vector<std::vector<SurfacePoint>> cellPoints_;  // each cell's points, at most pointsPerCell
+    std::vector<float> reach2_;  // per cell: squared distance of its farthest competitor (inf: all compete)
+    // Scratch of choose().
+    std::vector<std::uint32_t> order_;
+    std::vector<float> distance2_;
+    std::vector<double> quality2_;
 };
 
 }  // namespace cubeao

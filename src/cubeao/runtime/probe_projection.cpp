@@ -3,24 +3,19 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "common/projection.h"
 #include "common/runtime_layout.h"
-#include "cubeao/cache/depth_cube.h"
+#include "cubeao/core/cube.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/shader.h"
 
 namespace cubeao {
 namespace {
-
-GLenum depthInternalFormat(DepthFormat f) {
-    return f == DepthFormat::R16Unorm ? GL_R16 : f == DepthFormat::R16Float ? GL_R16F : GL_R32F;
-}
-GLenum depthType(DepthFormat f) {
-    return f == DepthFormat::R16Unorm ? GL_UNSIGNED_SHORT : f == DepthFormat::R16Float ? GL_HALF_FLOAT : GL_FLOAT;
-}
 
 // Location of a uniform the shader must use: a name that drifted from project.comp fails loudly.
 GLint uniformLocation(GLuint program, const char* name) {
@@ -29,90 +24,93 @@ GLint uniformLocation(GLuint program, const char* name) {
     return location;
 }
 
-GLint glInteger(GLenum name) {
-    GLint v = 0;
-    glGetIntegerv(name, &v);
-    return v;
-}
+// Page hints are per probe; while the grid is built, the probes it has read are released in batches
+// so that building over a cache of any size keeps the RSS bounded.
+class TouchedProbes {
+public:
+    explicit TouchedProbes(const ProbeSource& source) : source_(source), mark_(source.size(), false) {}
+    ~TouchedProbes() { releaseAll(); }
+    void touch(std::uint32_t id) {
+        if (id >= mark_.size() || mark_[id]) return;
+        mark_[id] = true;
+        ids_.push_back(id);
+        if (ids_.size() >= 256) releaseAll();
+    }
+    void releaseAll() {
+        for (std::uint32_t id : ids_) mark_[id] = false;
+        ids_.clear();
+        source_.releaseAll();  // per-probe release leaves the neighbours' pages the kernel mapped too
+    }
+
+private:
+    const ProbeSource& source_;
+    std::vector<bool> mark_;
+    std::vector<std::uint32_t> ids_;
+};
 
 }  // namespace
 
-ProbeAtlasLayout probeAtlasLayout(std::size_t probes, int res, int maxTextureSize, int maxLayers) {
-    const std::size_t perSide = std::size_t(std::max(1, maxTextureSize / std::max(res, 1)));
-    const std::size_t n = std::max<std::size_t>(probes, 1);
-    const std::size_t x = std::min(perSide, std::size_t(std::ceil(std::sqrt(double(n)))));
-    const std::size_t y = std::min(perSide, (n + x - 1) / x);
-    const std::size_t pages = (n + x * y - 1) / (x * y);
-    if (6 * pages > std::size_t(std::max(maxLayers, 0)))
-        throw Error(std::to_string(probes) + " probes at " + std::to_string(res) + "² per face need " +
-                    std::to_string(6 * pages) + " texture layers of " + std::to_string(x * std::size_t(res)) + "×" +
-                    std::to_string(y * std::size_t(res)) + "; this GL allows " + std::to_string(maxLayers) +
-                    " layers of at most " + std::to_string(maxTextureSize) + "²");
-    return {int(x), int(y), int(pages)};
+ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, std::span<const glm::vec3> positions,
+                                         std::span<const std::uint32_t> indices,
+                                         const ProbeProjectionSettings& settings)
+    : ProbeProjectionPass(&cache, cache.params(), positions, indices, settings, cache.probeCount()) {
+    if (cache.probeCount() == 0) throw Error("render --method probes: the cache holds no probes");
 }
 
-ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, std::span<const glm::vec3> meshPositions,
-                                         std::span<const std::uint32_t> meshIndices, ProbeGridSettings gridSettings) {
-    const CacheParams& params = cache.params();
-    const std::size_t n = cache.probeCount();
-    if (n == 0) throw Error("render --method probes: the cache holds no probes");
+ProbeProjectionPass::ProbeProjectionPass(const CacheParams& params, std::span<const glm::vec3> positions,
+                                         std::span<const std::uint32_t> indices,
+                                         const ProbeProjectionSettings& settings, std::size_t expectedProbes)
+    : ProbeProjectionPass(nullptr, params, positions, indices, settings, expectedProbes) {}
+
+ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CacheParams& params,
+                                         std::span<const glm::vec3> meshPositions,
+                                         std::span<const std::uint32_t> meshIndices,
+                                         const ProbeProjectionSettings& settings, std::size_t expectedProbes)
+    : source_(cache, params), settings_(settings) {
     res_ = int(params.res);
     depthRes_ = int(params.depthRes);
-    atlas_ = probeAtlasLayout(n, res_, glInteger(GL_MAX_TEXTURE_SIZE), glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS));
-    const auto layers = GLsizei(6 * atlas_.pages);
 
-    ao_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(ao_.id(), 1, GL_COMPRESSED_RG_RGTC2, atlas_.tilesX * res_, atlas_.tilesY * res_, layers);
-    distance_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(distance_.id(), 1, depthInternalFormat(params.depthFormat), atlas_.tilesX * depthRes_,
-                       atlas_.tilesY * depthRes_, layers);
-    GLint unpackAlignment = 4;
-    glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // distance rows are 2 · depthRes bytes: odd depthRes is not 4-aligned
-
-    std::vector<kernel::ProbeEntry> probeTable(n);
-    std::vector<glm::vec3> positions(n);
-    std::vector<std::vector<float>> distances(n);  // decoded, for the grid's visibility tests
-    for (std::size_t i = 0; i < n; ++i) {
-        const ProbeView p = cache.probe(i);  // checks the probe's checksum
-        const int tile = int(i % std::size_t(atlas_.tilesPerPage()));
-        const int tx = tile % atlas_.tilesX, ty = tile / atlas_.tilesX;
-        const auto layer = GLint(6 * (i / std::size_t(atlas_.tilesPerPage())));
-        glCompressedTextureSubImage3D(ao_.id(), 0, tx * res_, ty * res_, layer, res_, res_, 6, GL_COMPRESSED_RG_RGTC2,
-                                      GLsizei(p.aoConfidence.size()), p.aoConfidence.data());
-        glTextureSubImage3D(distance_.id(), 0, tx * depthRes_, ty * depthRes_, layer, depthRes_, depthRes_, 6, GL_RED,
-                            depthType(params.depthFormat), p.depth.data());
-        const float scale = params.depthFormat == DepthFormat::R16Unorm ? p.maxDistance : 1.0f;
-        probeTable[i] = {p.position, scale};
-        positions[i] = p.position;
-        if (!depth::decode(p.depth, depthRes_, params.depthFormat, p.maxDistance, distances[i]))
-            throw Error("probe " + std::to_string(p.index) + ": distance cube has the wrong size");
-    }
-    glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
-    // The grid ranks probes per cell as the pass will, less the confidence (projection.h).
+    // The grid ranks probes per cell as the pass will, less the confidence (projection.h), reading the
+    // distance texel straight from the stored bytes.
     const ProjectSettings project = resolveProjectSettings({});
-    const auto quality = [&](std::uint32_t probe, const SurfacePoint& x) {
-        const DecodedProbe view{positions[probe], res_, {}, {}, depthRes_, distances[probe]};
-        const double area = visibleFootprint(view, x.position, x.normal, project);
+    const kernel::ProjectionParams kp{project.depthTolerance, project.depthSlope, project.minFacing, res_, depthRes_};
+    auto touched = std::make_shared<TouchedProbes>(source_);
+    const auto quality = [this, kp, touched](std::uint32_t probe, const SurfacePoint& x) {
+        touched->touch(probe);
+        const glm::vec3 d = x.position - source_.position(probe);
+        const float distance = glm::length(d);
+        if (!(distance > 0.0f)) return 0.0;
+        const float cosine = -glm::dot(x.normal, d) / distance;
+        const float stored = source_.distance(probe, cube::texelIndex(d, depthRes_));
+        if (!kernel::probeSeesPoint(stored, distance, cosine, kp)) return 0.0;
+        const double area = texelFootprint(source_.position(probe), x.position, x.normal, res_, kp.minFacing);
         return area > 0.0 ? 1.0 / area : 0.0;  // 1 / inf = 0: not seen
     };
+    ProbeGridSettings gridSettings = settings.grid;
     if (gridSettings.cellSize == 0.0f) gridSettings.cellSize = params.radius;
     glm::vec3 boundsMin(std::numeric_limits<float>::max()), boundsMax(-std::numeric_limits<float>::max());
     for (const glm::vec3& v : meshPositions) boundsMin = glm::min(boundsMin, v), boundsMax = glm::max(boundsMax, v);
-    const std::vector<SurfacePoint> points = sampleSurface(meshPositions, meshIndices, gridSettings.cellSize / 8.0f);
-    grid_ = std::make_unique<ProbeGrid>(boundsMin, boundsMax, positions, points, quality, gridSettings);
+    std::vector<glm::vec3> probePositions(source_.size());
+    for (std::uint32_t i = 0; i < probePositions.size(); ++i) probePositions[i] = source_.position(i);
+    {
+        const std::vector<SurfacePoint> points =
+            sampleSurface(meshPositions, meshIndices, gridSettings.cellSize / 8.0f);
+        grid_ = std::make_unique<ProbeGrid>(boundsMin, boundsMax, probePositions, points, quality, gridSettings);
+    }
+    touched->releaseAll();
     candidates_ = grid_->k();
 
-    probes_ = gl::Buffer::create();
-    glNamedBufferStorage(probes_.id(), GLsizeiptr(probeTable.size() * sizeof(kernel::ProbeEntry)), probeTable.data(), 0);
     cells_ = gl::Buffer::create();
-    glNamedBufferStorage(cells_.id(), GLsizeiptr(grid_->table().size() * sizeof(std::uint32_t)), grid_->table().data(), 0);
+    glNamedBufferStorage(cells_.id(), GLsizeiptr(grid_->table().size() * sizeof(std::uint32_t)), grid_->table().data(),
+                         GL_DYNAMIC_STORAGE_BIT);
     counters_ = gl::Buffer::create();
     glNamedBufferStorage(counters_.id(), sizeof(kernel::PassCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    const std::size_t faceTiles = std::size_t(6 * atlas_.pages) * std::size_t(atlas_.tilesPerPage());
-    gpuBytes_ = faceTiles * std::size_t(res_ * res_) /* BC5: 1 byte per texel */ +
-                faceTiles * std::size_t(depthRes_ * depthRes_) * depthBytesPerTexel(params.depthFormat) +
-                probeTable.size() * sizeof(kernel::ProbeEntry) + grid_->table().size() * sizeof(std::uint32_t);
+    const std::size_t fixedBytes = grid_->table().size() * sizeof(std::uint32_t) + sizeof(kernel::PassCounters);
+    ResidencySettings residency = settings.residency;
+    if (!cache && residency.gpuBudgetBytes == 0)  // an empty start: room for the probes expected
+        residency.gpuBudgetBytes = fixedBytes + std::max<std::size_t>(expectedProbes, 1) * (probeGpuBytes(params) + 64) +
+                                   (std::size_t(16) << 20);
+    residency_ = std::make_unique<ProbeResidency>(source_, fixedBytes, residency);
 
     program_ = gl::compileComputeProgram("runtime/project.comp");
     const GLuint p = program_.id();
@@ -120,8 +118,7 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, std::span<con
     glProgramUniform1f(p, uniformLocation(p, "cellSize"), grid_->cellSize());
     glProgramUniform3iv(p, uniformLocation(p, "gridDims"), 1, glm::value_ptr(grid_->dims()));
     glProgramUniform1i(p, uniformLocation(p, "candidatesPerCell"), candidates_);
-    glProgramUniform1i(p, uniformLocation(p, "tilesX"), atlas_.tilesX);
-    glProgramUniform1i(p, uniformLocation(p, "tilesPerPage"), atlas_.tilesPerPage());
+    glProgramUniform1f(p, uniformLocation(p, "uncoveredAo"), 1.0f);
     // kernel::ProjectionParams, member by member (a plain uniform struct has no buffer layout).
     glProgramUniform1f(p, uniformLocation(p, "params.depthTolerance"), project.depthTolerance);
     glProgramUniform1f(p, uniformLocation(p, "params.depthSlope"), project.depthSlope);
@@ -132,10 +129,131 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, std::span<con
 
 ProbeProjectionPass::~ProbeProjectionPass() = default;
 
-void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t, GLuint aoImage) {
+std::size_t ProbeProjectionPass::gpuBytes() const {
+    return residency_->stats().gpuBytes + grid_->table().size() * sizeof(std::uint32_t) + sizeof(kernel::PassCounters);
+}
+
+std::size_t ProbeProjectionPass::allocatedGpuBytes() const {
+    return residency_->allocatedGpuBytes() + glBufferBytes(cells_.id()) + glBufferBytes(counters_.id());
+}
+
+void ProbeProjectionPass::setFallback(std::unique_ptr<AoFallback> fallback) {
+    fallback_ = std::move(fallback);
+    glProgramUniform1f(program_.id(), uniformLocation(program_.id(), "uncoveredAo"),
+                       fallback_ ? kernel::kUncoveredAo : 1.0f);
+}
+
+void ProbeProjectionPass::uploadCells(std::span<const std::size_t> cells) {
+    const std::size_t k = std::size_t(candidates_);
+    for (std::size_t i = 0; i < cells.size();) {  // runs of consecutive cells, one write each
+        std::size_t j = i + 1;
+        while (j < cells.size() && cells[j] == cells[j - 1] + 1) ++j;
+        glNamedBufferSubData(cells_.id(), GLintptr(cells[i] * k * sizeof(std::uint32_t)),
+                             GLsizeiptr((cells[j - 1] - cells[i] + 1) * k * sizeof(std::uint32_t)),
+                             grid_->table().data() + cells[i] * k);
+        i = j;
+    }
+}
+
+std::uint32_t ProbeProjectionPass::addProbe(ProbeRecord probe) {
+    const glm::vec3 position = probe.position;
+    const std::uint32_t id = source_.add(std::move(probe));
+    const std::vector<std::size_t> changed = grid_->addProbe(position);
+    if (grid_->probeCount() != source_.size()) throw Error("ProbeProjectionPass: probe ids out of step");
+    residency_->syncProbes(source_);
+    uploadCells(changed);
+    return id;
+}
+
+void ProbeProjectionPass::removeProbe(std::uint32_t id) {
+    source_.remove(id);
+    const std::vector<std::size_t> changed = grid_->removeProbe(id);
+    residency_->syncProbes(source_);
+    uploadCells(changed);
+}
+
+// The probes to keep resident, most wanted first: those the pixels of the newest reported frame used
+// or had to pass over, by how many sampled pixels did; then the candidates of the cells around the
+// camera ranked by the distance of their cell from the eye (×2 out of view within two cells, ×4
+// farther) or, if less, 1.25× the distance from where the eye will be `lookaheadFrames` from now,
+// times 1 + their rank in the cell. The box of cells grows until it lists as many probes as there are
+// slots. With room for every probe: all of them, nearest first (the order they stream in).
+std::vector<std::uint32_t> ProbeProjectionPass::wantedProbes(const CameraView& view) {
+    const glm::mat4 worldFromView = view.worldFromView();
+    const glm::vec3 eye(worldFromView[3]);
+    if (haveEye_) motion_ = 0.5f * motion_ + 0.5f * (eye - lastEye_);
+    lastEye_ = eye, haveEye_ = true;
+    const glm::vec3 ahead = eye + motion_ * settings_.lookaheadFrames;
+    const std::size_t n = source_.size();
+    const float inf = std::numeric_limits<float>::infinity();
+    score_.assign(n, inf);
+    std::vector<std::uint32_t> listed;
+    const auto list = [&](std::uint32_t id, float s) {
+        if (score_[id] == inf) listed.push_back(id);
+        score_[id] = std::min(score_[id], s);
+    };
+    if (residency_->slots() >= grid_->liveProbes()) {
+        for (std::uint32_t id = 0; id < n; ++id)
+            if (source_.isLive(id)) list(id, glm::length(source_.position(id) - eye));
+    } else {
+        const glm::ivec3 dims = grid_->dims();
+        const float cell = grid_->cellSize();
+        const glm::ivec3 centre = kernel::candidateCellOf(eye, grid_->origin(), cell, dims);
+        const int maxRadius = std::max({dims.x, dims.y, dims.z});
+        // The view frustum widened by a cell's half-diagonal: what the camera can see of a cell.
+        const float tanY = view.tanHalfFovY, tanX = view.tanHalfFovY * view.aspect(), margin = 0.87f * cell;
+        const auto visible = [&](const glm::vec3& at) {
+            const glm::vec3 v(view.viewFromWorld * glm::vec4(at, 1.0f));
+            const float depth = -v.z;
+            if (depth < -margin) return false;
+            const float d = std::max(depth, 0.0f);
+            return std::fabs(v.x) <= d * tanX + margin * (1.0f + tanX) && std::fabs(v.y) <= d * tanY + margin * (1.0f + tanY);
+        };
+        for (int r = 1;; r *= 2) {
+            const glm::ivec3 lo = glm::max(centre - r, glm::ivec3(0)), hi = glm::min(centre + r, dims - 1);
+            for (int z = lo.z; z <= hi.z; ++z)
+                for (int y = lo.y; y <= hi.y; ++y)
+                    for (int x = lo.x; x <= hi.x; ++x) {
+                        const std::size_t c = grid_->cellIndex({x, y, z});
+                        const glm::vec3 at = grid_->cellCentre(c);
+                        // Cells in view by their distance; around the eye (a turn of the head away)
+                        // and where the eye is heading at a premium.
+                        float s = glm::length(at - eye);
+                        if (!visible(at)) s = s < 2.0f * cell ? s * 2.0f : s * 4.0f;
+                        s = std::min(s, 1.25f * glm::length(at - ahead));
+                        // A pixel blends two candidates: the first ones of a farther cell before the
+                        // last ones of a near cell.
+                        int k = 0;
+                        for (std::uint32_t id : grid_->cellCandidates(c)) list(id, s * (1.0f + float(k++)));
+                    }
+            if (listed.size() >= residency_->slots() || r >= maxRadius) break;
+        }
+    }
+    // What the pixels asked for comes first, by how many asked; the rest by place.
+    std::vector<std::uint32_t> demand(listed.size());
+    for (std::size_t i = 0; i < listed.size(); ++i) demand[i] = residency_->demand(listed[i]);
+    if (residency_->slots() < grid_->liveProbes())
+        for (std::uint32_t id = 0; id < n; ++id)
+            if (residency_->demand(id) > 0 && score_[id] == inf) listed.push_back(id), demand.push_back(residency_->demand(id));
+    std::vector<std::uint32_t> order(listed.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t i, std::uint32_t j) {
+        if (demand[i] != demand[j]) return demand[i] > demand[j];
+        const std::uint32_t a = listed[i], b = listed[j];
+        return score_[a] != score_[b] ? score_[a] < score_[b] : a < b;
+    });
+    std::vector<std::uint32_t> ranked(order.size());
+    for (std::size_t i = 0; i < order.size(); ++i) ranked[i] = listed[order[i]];
+    return ranked;
+}
+
+void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) {
+    residency_->update(source_, wantedProbes(view), unbounded_);
+    unbounded_ = false;
     const GLuint p = program_.id();
-    const kernel::PassCounters zero{};
-    glNamedBufferSubData(counters_.id(), 0, sizeof zero, &zero);
+    glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    glProgramUniform1i(p, uniformLocation(p, "tilesX"), atlas().tilesX);  // the atlas grows with an unlimited budget
+    glProgramUniform1i(p, uniformLocation(p, "tilesPerPage"), atlas().tilesPerPage());
     glProgramUniform2i(p, uniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
     glProgramUniform1f(p, uniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
     const glm::mat4 worldFromView = view.worldFromView();
@@ -143,14 +261,14 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
     glUseProgram(p);
     glBindTextureUnit(kernel::kGBufferDepthUnit, gbuffer.depthTexture());
     glBindTextureUnit(kernel::kGBufferNormalUnit, gbuffer.normalTexture());
-    glBindTextureUnit(kernel::kProbeAoUnit, ao_.id());
-    glBindTextureUnit(kernel::kProbeDistanceUnit, distance_.id());
+    residency_->bind();
     glBindImageTexture(kernel::kAoImageUnit, aoImage, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kPassCountersBuffer, counters_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kProbeTableBuffer, probes_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kCandidateBuffer, cells_.id());
     glDispatchCompute(kernel::pixelGroups(gbuffer.width()), kernel::pixelGroups(gbuffer.height()), 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    residency_->endFrame();
+    if (fallback_) fallback_->fill(gbuffer, view, frame, aoImage);
     pixels_ = double(gbuffer.width()) * double(gbuffer.height());
 }
 
@@ -173,6 +291,16 @@ double ProbeProjectionPass::fetchesPerPixel() const {
 double ProbeProjectionPass::uncoveredFraction() const {
     if (pixels_ == 0.0) return 0.0;
     return double(readCounters(counters_).uncovered) / pixels_;
+}
+
+double ProbeProjectionPass::fallbackProbeFraction() const {
+    if (pixels_ == 0.0) return 0.0;
+    return double(readCounters(counters_).fallbackProbe) / pixels_;
+}
+
+double ProbeProjectionPass::geometryFraction() const {
+    if (pixels_ == 0.0) return 0.0;
+    return double(readCounters(counters_).geometry) / pixels_;
 }
 
 }  // namespace cubeao

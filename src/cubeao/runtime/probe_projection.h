@@ -1,12 +1,16 @@
-// The probe cache as a run-time AO method (`render --method probes`): every probe of a .cubeao cache
-// uploaded once (AO + confidence as a BC5 2D array texture, distance cubes as a second one, both laid
-// out as probe atlases: ProbeAtlasLayout), a world grid of K candidate probes per cell (probe_grid.h),
-// and the projection pass (shaders/runtime/project.comp; per-point math and CPU twin in projection.h).
+// The probe cache as a run-time AO method (`render --method probes`, DESIGN.md §4 "Run time that
+// grows"): the probes' texels stream into a pool of atlas slots under a GPU memory budget
+// (probe_residency.h), a world grid lists K candidate probes per cell (probe_grid.h), and the
+// projection pass (shaders/runtime/project.comp; per-point math and CPU twin in projection.h) shades
+// every pixel from the resident candidates of its cell. Probes can be added and removed while it
+// runs; a pixel no resident candidate sees is filled by a screen-space fallback (ao_pass.h
+// AoFallback) when one is attached, and counted.
 #pragma once
 
 #include <cstddef>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -14,53 +18,86 @@
 #include "cubeao/gl/handles.h"
 #include "cubeao/runtime/ao_pass.h"
 #include "cubeao/runtime/probe_grid.h"
+#include "cubeao/runtime/probe_residency.h"
 #include "cubeao/runtime/projection.h"
 
 namespace cubeao {
 
-// Where probe i's six faces live in the array textures: tile t = i mod (tilesX · tilesY) of page
-// p = i / (tilesX · tilesY), tiles in rows of tilesX, face f of page p in layer 6p + f; a tile is
-// res × res texels in the AO texture and depthRes × depthRes in the distance one. Tiles rather than
-// six layers per probe because GL_MAX_ARRAY_TEXTURE_LAYERS is 2048 on llvmpipe and on NVIDIA, i.e.
-// 341 probes; a 16384² page holds 1,024 probes at 512² or 10,000 at 16² (bench render's sweep).
-struct ProbeAtlasLayout {
-    int tilesX = 1, tilesY = 1, pages = 1;
-    int tilesPerPage() const { return tilesX * tilesY; }
+struct ProbeProjectionSettings {
+    ProbeGridSettings grid;
+    ResidencySettings residency;
+    // Frames the residency looks ahead along the camera's motion when it ranks probes.
+    float lookaheadFrames = 8.0f;
 };
-
-// A near-square page just big enough for `probes` (tilesX = ⌈√probes⌉), at most maxTextureSize / res
-// tiles a side, then more pages. Error naming the counts when 6 · pages exceeds maxLayers.
-ProbeAtlasLayout probeAtlasLayout(std::size_t probes, int res, int maxTextureSize, int maxLayers);
 
 class ProbeProjectionPass : public AoPass {
 public:
-    // Reads every probe of `cache` (checksums checked on the way) and builds the candidate grid over
-    // the scene's mesh (its bounds, and points sampled on its surfaces: probe_grid.h). Needs a
-    // current GL 4.5 context.
+    // The probes of `cache` (read lazily from its mapping, checksums checked on first use) and the
+    // candidate grid over the scene's mesh (its bounds, and points sampled on its surfaces:
+    // probe_grid.h). The first frame loads what it wants without the per-frame bound. Needs a current
+    // GL 4.5 context; `cache` must outlive the pass.
     ProbeProjectionPass(const CacheReader& cache, std::span<const glm::vec3> positions,
-                        std::span<const std::uint32_t> indices, ProbeGridSettings grid = {});
+                        std::span<const std::uint32_t> indices, const ProbeProjectionSettings& settings = {});
+    // No probes yet: they come through addProbe (a viewer placing probes live). `params` are the
+    // probes' (resolutions, depth format, R); the budget is sized for `expectedProbes` when it is 0.
+    ProbeProjectionPass(const CacheParams& params, std::span<const glm::vec3> positions,
+                        std::span<const std::uint32_t> indices, const ProbeProjectionSettings& settings = {},
+                        std::size_t expectedProbes = 64);
     ~ProbeProjectionPass() override;
 
     const char* name() const override { return "probes"; }
     void run(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) override;
     double fetchesPerPixel() const override;
-    // Pixels with geometry that no candidate probe saw, over all pixels of the last frame (their AO
-    // falls back to 1, open).
+
+    // Live probe set. addProbe returns the new probe's id and gives the pixels the same probe loaded
+    // from a cache gives (same bytes, same grid); the candidate grid chooses again only the cells the
+    // probe can affect. Both take effect at the next run().
+    std::uint32_t addProbe(ProbeRecord probe);
+    void removeProbe(std::uint32_t id);
+    // Fills the pixels no resident candidate sees (kernel::kUncoveredAo) each frame; without one they
+    // stay open (1), as a cache without coverage there would leave them.
+    void setFallback(std::unique_ptr<AoFallback> fallback);
+    AoFallback* fallback() const { return fallback_.get(); }
+    // The next run() loads everything it wants regardless of the per-frame bound (a cut, a teleport).
+    void requestUnboundedUpdate() { unbounded_ = true; }
+
+    // Shares of the last frame's pixels, over all pixels: no resident candidate saw
+    // them (screen space, or open without a fallback); covered, but a non-resident candidate was
+    // passed over on the way (the "fallback probe" path). Read back: call after the frame.
     double uncoveredFraction() const;
+    double fallbackProbeFraction() const;
+    double geometryFraction() const;  // pixels with geometry over all pixels (the rest show the sky)
+
     const ProbeGrid& grid() const { return *grid_; }
-    const ProbeAtlasLayout& atlas() const { return atlas_; }
-    // GPU memory the probes take: both atlases, the probe table and the candidate grid.
-    std::size_t gpuBytes() const { return gpuBytes_; }
+    const ProbeSource& source() const { return source_; }
+    const ProbeResidency& residency() const { return *residency_; }
+    const ProbeAtlasLayout& atlas() const { return residency_->atlas(); }
+    // GPU memory the pass holds: the residency's (atlases, staging, table, feedback), the candidate
+    // grid and the counters.
+    std::size_t gpuBytes() const;
+    // The same as GL reports it for every texture and buffer the pass holds (for tests).
+    std::size_t allocatedGpuBytes() const;
 
 private:
+    ProbeProjectionPass(const CacheReader* cache, const CacheParams& params, std::span<const glm::vec3> positions,
+                        std::span<const std::uint32_t> indices, const ProbeProjectionSettings& settings,
+                        std::size_t expectedProbes);
+    std::vector<std::uint32_t> wantedProbes(const CameraView& view);
+    void uploadCells(std::span<const std::size_t> cells);
+
+    ProbeSource source_;
+    ProbeProjectionSettings settings_;
     int res_ = 0, depthRes_ = 0, candidates_ = 0;
-    ProbeAtlasLayout atlas_;
-    std::size_t gpuBytes_ = 0;
     std::unique_ptr<ProbeGrid> grid_;
+    std::unique_ptr<ProbeResidency> residency_;
+    std::unique_ptr<AoFallback> fallback_;
     gl::Program program_;
-    gl::Texture ao_, distance_;
-    gl::Buffer probes_, cells_, counters_;
+    gl::Buffer cells_, counters_;
     double pixels_ = 0.0;
+    bool unbounded_ = true;
+    bool haveEye_ = false;
+    glm::vec3 lastEye_{0.0f}, motion_{0.0f};  // motion: smoothed eye displacement per frame
+    std::vector<float> score_;  // scratch of wantedProbes, per id
 };
 
 }  // namespace cubeao

@@ -25,6 +25,7 @@ struct DecodedReader {
     std::span<const DecodedProbe> probes;
 
     std::uint32_t projectionCandidate(int k) const { return std::uint32_t(k); }
+    bool projectionResident(std::uint32_t) const { return true; }  // decoded probes are all at hand
     glm::vec3 projectionProbePosition(std::uint32_t probe) const { return probes[probe].position; }
     float projectionDistance(std::uint32_t probe, int face, glm::vec2 sc) const {
         const DecodedProbe& p = probes[probe];

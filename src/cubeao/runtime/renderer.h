@@ -1,8 +1,10 @@
-// One run-time frame, pass by pass (DESIGN.md §4 "Projection"): camera G-buffer → AO method (any
-// AoPass: a screen-space baseline or the probe projection) → edge-aware blur → composite, then the
-// read-back of the AO and the preview. Every pass is timed on its own (gl::timeGpu: GL timer
-// queries on a real GPU, wall clock around glFinish on llvmpipe), which stalls between passes:
-// this is the measuring renderer of `cubeao render`, not a frame loop.
+// The measuring renderer of `cubeao render` and the benchmarks: one run-time frame, pass by pass
+// (DESIGN.md §4 "Projection"), timed and read back. It wraps a FramePipeline (frame_pipeline.h, the
+// non-stalling frame loop an engine or the viewer uses: G-buffer → AO method → blur → composite) and
+// calls the pipeline's stages one by one, each timed on its own with gl::timeGpu (GL timer queries on
+// a real GPU, wall clock around glFinish on llvmpipe, where timer queries see only the hand-over),
+// then reads the AO and the preview back. Both stall between passes by design: the figures are per
+// pass and right on llvmpipe, and nothing here is a frame loop.
 #pragma once
 
 #include <cstdint>
@@ -10,18 +12,14 @@
 #include <span>
 #include <vector>
 
-#include "cubeao/gl/handles.h"
 #include "cubeao/core/image.h"
 #include "cubeao/runtime/ao_pass.h"
 #include "cubeao/runtime/blur.h"
 #include "cubeao/runtime/camera_gbuffer.h"
 #include "cubeao/runtime/composite.h"
+#include "cubeao/runtime/frame_pipeline.h"  // PassTimings
 
 namespace cubeao {
-
-struct PassTimings {  // milliseconds, by the clock gl::trustedClock() picks
-    double gbuffer = 0.0, ao = 0.0, blur = 0.0, composite = 0.0, readback = 0.0;
-};
 
 struct RenderedFrame {
     Image ao;                      // after the blur; 1 = open, 1 where no geometry (row 0 = top)
@@ -42,19 +40,15 @@ public:
     // The last frame's AO before the blur (another read-back; for tests and diagnostics).
     Image readRawAo() const;
 
-    AoPass& method() { return *method_; }
-    const CameraGBuffer& gbuffer() const { return gbuffer_; }
-    const Blur& blur() const { return blur_; }
+    AoPass& method() { return pipeline_.method(); }
+    const CameraGBuffer& gbuffer() const { return pipeline_.gbuffer(); }
+    const Blur& blur() const { return pipeline_.blur(); }
+    // The wrapped pipeline, e.g. for its textures. Its render() must not be called inside one of this
+    // renderer's frames (its timer queries would nest with timeGpu's).
+    FramePipeline& pipeline() { return pipeline_; }
 
 private:
-    void resize(int width, int height);
-
-    CameraGBuffer gbuffer_;
-    std::unique_ptr<AoPass> method_;
-    Blur blur_;
-    Composite composite_;
-    gl::Texture rawAo_, ao_, shaded_;
-    int width_ = 0, height_ = 0;
+    FramePipeline pipeline_;
 };
 
 }  // namespace cubeao

@@ -1,0 +1,482 @@
+#include "cubeao/runtime/probe_residency.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <tuple>
+
+#include <glm/vec3.hpp>
+
+#include "common/runtime_layout.h"
+#include "cubeao/cache/depth_cube.h"
+#include "cubeao/core/error.h"
+
+namespace cubeao {
+namespace {
+
+constexpr std::size_t kFeedbackRing = 3;  // feedback read 2 frames late at the latest
+constexpr std::size_t kStagingRegions = 2;
+constexpr std::size_t kDefaultUploadBytes = std::size_t(8) << 20;
+// Eviction hysteresis: a probe used within kInUseFrames frames is replaced only by one whose demand
+// exceeds kSwapMargin times its own plus kSwapMinimum sampled pixels.
+constexpr std::int64_t kInUseFrames = 8;
+constexpr double kSwapMargin = 1.5, kSwapMinimum = 4.0;
+constexpr std::int64_t kFreshFrames = 30;
+constexpr std::uint32_t kNoSlot = kernel::kNoSlot;
+constexpr std::uint32_t kNoProbe = kernel::kNoProbe;
+
+GLenum depthInternalFormat(DepthFormat f) {
+    return f == DepthFormat::R16Unorm ? GL_R16 : f == DepthFormat::R16Float ? GL_R16F : GL_R32F;
+}
+GLenum depthType(DepthFormat f) {
+    return f == DepthFormat::R16Unorm ? GL_UNSIGNED_SHORT : f == DepthFormat::R16Float ? GL_HALF_FLOAT : GL_FLOAT;
+}
+GLint glInteger(GLenum name) {
+    GLint v = 0;
+    glGetIntegerv(name, &v);
+    return v;
+}
+std::size_t feedbackWords(std::size_t probes) { return std::max<std::size_t>(1, probes); }  // a count per probe
+std::string mib(std::size_t bytes) { return std::to_string(double(bytes) / double(1 << 20)).substr(0, 6) + " MiB"; }
+
+// Whether a fence has passed, without waiting (timeout 0; the flush makes sure it can pass at all).
+bool signalled(GLsync fence) {
+    const GLenum r = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 0);
+    return r == GL_ALREADY_SIGNALED || r == GL_CONDITION_SATISFIED;
+}
+
+}  // namespace
+
+ProbeAtlasLayout probeAtlasLayout(std::size_t slots, int res, int maxTextureSize, int maxLayers) {
+    const std::size_t perSide = std::size_t(std::max(1, maxTextureSize / std::max(res, 1)));
+    const std::size_t n = std::max<std::size_t>(slots, 1);
+    const std::size_t x = std::min(perSide, std::size_t(std::ceil(std::sqrt(double(n)))));
+    const std::size_t y = std::min(perSide, (n + x - 1) / x);
+    const std::size_t pages = (n + x * y - 1) / (x * y);
+    if (6 * pages > std::size_t(std::max(maxLayers, 0)))
+        throw Error(std::to_string(slots) + " probes at " + std::to_string(res) + "² per face need " +
+                    std::to_string(6 * pages) + " texture layers of " + std::to_string(x * std::size_t(res)) + "×" +
+                    std::to_string(y * std::size_t(res)) + "; this GL allows " + std::to_string(maxLayers) +
+                    " layers of at most " + std::to_string(maxTextureSize) + "²");
+    return {int(x), int(y), int(pages)};
+}
+
+// ---- ProbeSource ---------------------------------------------------------------------------------
+
+ProbeSource::ProbeSource(const CacheReader* cache, const CacheParams& params) : cache_(cache), params_(params) {
+    if (!cache) return;
+    probes_.resize(cache->probeCount());
+    for (std::size_t i = 0; i < probes_.size(); ++i)
+        probes_[i].position = cache->position(i), probes_[i].maxDistance = cache->maxDistance(i);
+}
+
+float ProbeSource::distanceScale(std::uint32_t id) const {
+    return params_.depthFormat == DepthFormat::R16Unorm ? probes_[id].maxDistance : 1.0f;
+}
+
+std::uint32_t ProbeSource::add(ProbeRecord record) {
+    if (record.aoConfidence.size() != aoSectionSize(params_) || record.depth.size() != depthSectionSize(params_))
+        throw Error("probe " + std::to_string(record.index) + ": " + std::to_string(record.aoConfidence.size()) +
+                    " AO and " + std::to_string(record.depth.size()) + " distance bytes; this probe set needs " +
+                    std::to_string(aoSectionSize(params_)) + " and " + std::to_string(depthSectionSize(params_)));
+    Probe p;
+    p.position = record.position;
+    p.maxDistance = record.maxDistance;
+    p.added = std::make_unique<ProbeRecord>(std::move(record));
+    probes_.push_back(std::move(p));
+    return std::uint32_t(probes_.size() - 1);
+}
+
+void ProbeSource::remove(std::uint32_t id) {
+    if (!isLive(id)) throw Error("no live probe with id " + std::to_string(id));
+    probes_[id].live = false;
+    probes_[id].added.reset();
+}
+
+ProbeView ProbeSource::view(std::uint32_t id) const {
+    const Probe& p = probes_[id];
+    if (p.added) return viewOf(*p.added);
+    return cache_->probe(id);
+}
+
+void ProbeSource::prefetch(std::uint32_t id) const {
+    if (!probes_[id].added && cache_) cache_->prefetch(id);
+}
+
+void ProbeSource::release(std::uint32_t id) const {
+    if (!probes_[id].added && cache_) cache_->release(id);
+}
+
+void ProbeSource::releaseAll() const {
+    if (cache_) cache_->releaseAll();
+}
+
+float ProbeSource::distance(std::uint32_t id, std::size_t texel) const {
+    const std::span<const std::uint8_t> bytes = view(id).depth;
+    const std::uint32_t size = depthBytesPerTexel(params_.depthFormat);
+    std::uint32_t stored = 0;
+    if (size == 2) {
+        std::uint16_t v;
+        std::memcpy(&v, bytes.data() + texel * 2, 2);
+        stored = v;
+    } else {
+        std::memcpy(&stored, bytes.data() + texel * 4, 4);
+    }
+    return depth::decodeTexel(stored, params_.depthFormat, probes_[id].maxDistance);
+}
+
+// ---- ProbeResidency ------------------------------------------------------------------------------
+
+std::size_t probeGpuBytes(const CacheParams& p) { return std::size_t(aoSectionSize(p) + depthSectionSize(p)); }
+
+// The staging ring (persistently mapped, written by the host, read by texture uploads) and the
+// feedback ring (written by the projection, read by the host once its fence has passed).
+struct ProbeResidency::Staging {
+    gl::Buffer upload;
+    std::uint8_t* uploadBytes = nullptr;
+    std::array<GLsync, kStagingRegions> uploadFences{};
+    gl::Buffer feedback;
+    const std::uint32_t* feedbackWords = nullptr;
+    std::size_t words = 0, stride = 0;  // words per frame; bytes between frames (binding-offset aligned)
+    std::size_t feedbackBytes = 0;
+    std::array<GLsync, kFeedbackRing> fences{};
+    std::array<std::int64_t, kFeedbackRing> frames{};
+
+    ~Staging() {
+        for (GLsync& f : uploadFences)
+            if (f) glDeleteSync(f);
+        dropFeedback();
+    }
+    void dropFeedback() {
+        for (GLsync& f : fences)
+            if (f) glDeleteSync(f), f = nullptr;
+    }
+};
+
+ProbeResidency::ProbeResidency(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings)
+    : params_(source.params()), staging_(std::make_unique<Staging>()) {
+    const std::size_t perProbe = probeGpuBytes(params_);
+    uploadBound_ = std::max(perProbe, settings.uploadBytesPerFrame ? settings.uploadBytesPerFrame : kDefaultUploadBytes);
+    const std::size_t n = std::max<std::size_t>(source.size(), 1);
+    capacity_ = n;
+    const std::size_t stagingBytes = kStagingRegions * uploadBound_;
+    // (feedback: each ring entry may be padded to the binding alignment, at most 256 bytes)
+    const std::size_t tableBytes =
+        capacity_ * sizeof(kernel::ProbeEntry) + kFeedbackRing * (feedbackWords(capacity_) * 4 + 256);
+    const std::size_t fixed = fixedBytes + stagingBytes + tableBytes;
+    std::size_t want = n;
+    unlimited_ = settings.gpuBudgetBytes == 0;
+    if (!unlimited_) {
+        if (settings.gpuBudgetBytes < fixed + perProbe)
+            throw Error("GPU budget " + mib(settings.gpuBudgetBytes) + " cannot hold one probe: a probe takes " +
+                        mib(perProbe) + " (" + std::to_string(params_.res) + "² faces), and the grid, probe table and " +
+                        "staging ring " + mib(fixed) + "; give at least " + mib(fixed + perProbe));
+        want = std::min(n, (settings.gpuBudgetBytes - fixed) / perProbe);
+        const int res = int(params_.res);
+        const int maxSize = glInteger(GL_MAX_TEXTURE_SIZE), maxLayers = glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS);
+        const auto atlasBytes = [&](std::size_t s) {
+            const ProbeAtlasLayout l = probeAtlasLayout(s, res, maxSize, maxLayers);
+            return std::size_t(l.tilesPerPage()) * std::size_t(l.pages) * perProbe;
+        };
+        while (want > 1 && fixed + atlasBytes(want) > settings.gpuBudgetBytes) --want;
+    }
+    allocateAtlas(want, settings.gpuBudgetBytes);
+    staging_->upload = gl::Buffer::create();
+    const GLbitfield writeFlags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+    glNamedBufferStorage(staging_->upload.id(), GLsizeiptr(stagingBytes), nullptr, writeFlags);
+    staging_->uploadBytes =
+        static_cast<std::uint8_t*>(glMapNamedBufferRange(staging_->upload.id(), 0, GLsizeiptr(stagingBytes), writeFlags));
+    if (!staging_->uploadBytes) throw Error("probe residency: cannot map the staging buffer");
+    capacity_ = 0;
+    ensureCapacity(n);
+    syncProbes(source);
+    stats_.slots = slots_;
+}
+
+ProbeResidency::~ProbeResidency() = default;
+
+// Atlases for `slots` probes: every tile of the pages they need is a slot (a partly used page costs
+// the same), except without a budget, where the pool is exactly the probe count until it grows.
+void ProbeResidency::allocateAtlas(std::size_t slots, std::size_t budget) {
+    const int res = int(params_.res), depthRes = int(params_.depthRes);
+    atlas_ = probeAtlasLayout(slots, res, glInteger(GL_MAX_TEXTURE_SIZE), glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS));
+    const std::size_t tiles = std::size_t(atlas_.tilesPerPage()) * std::size_t(atlas_.pages);
+    slots_ = budget == 0 ? std::max<std::size_t>(slots, 1) : tiles;
+    atlasBytes_ = tiles * probeGpuBytes(params_);
+    const auto layers = GLsizei(6 * atlas_.pages);
+    ao_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(ao_.id(), 1, GL_COMPRESSED_RG_RGTC2, atlas_.tilesX * res, atlas_.tilesY * res, layers);
+    distance_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(distance_.id(), 1, depthInternalFormat(params_.depthFormat), atlas_.tilesX * depthRes,
+                       atlas_.tilesY * depthRes, layers);
+    owner_.resize(slots_, kNoProbe);
+}
+
+// A pool twice the size (at least `slots`): new atlases, every resident probe's tiles copied on the
+// GPU to the same slot number in the new layout. Only without a budget.
+void ProbeResidency::growAtlas(std::size_t slots) {
+    const ProbeAtlasLayout old = atlas_;
+    gl::Texture oldAo = std::move(ao_), oldDistance = std::move(distance_);
+    allocateAtlas(std::max(slots, 2 * slots_), 0);
+    const auto corner = [](const ProbeAtlasLayout& l, std::uint32_t slot, int size) {
+        const int tile = int(slot) % l.tilesPerPage();
+        return glm::ivec3(tile % l.tilesX * size, tile / l.tilesX * size, 6 * (int(slot) / l.tilesPerPage()));
+    };
+    for (std::uint32_t s = 0; s < owner_.size(); ++s) {
+        if (owner_[s] == kNoProbe) continue;
+        for (const auto& [from, to, size] : {std::tuple(oldAo.id(), ao_.id(), int(params_.res)),
+                                             std::tuple(oldDistance.id(), distance_.id(), int(params_.depthRes))}) {
+            const glm::ivec3 a = corner(old, s, size), b = corner(atlas_, s, size);
+            glCopyImageSubData(from, GL_TEXTURE_2D_ARRAY, 0, a.x, a.y, a.z, to, GL_TEXTURE_2D_ARRAY, 0, b.x, b.y, b.z,
+                               size, size, 6);
+        }
+    }
+    stats_.slots = slots_;
+}
+
+void ProbeResidency::ensureCapacity(std::size_t probes) {
+    if (probes <= capacity_ && table_.id() != 0) return;
+    const std::size_t old = capacity_;
+    capacity_ = std::max(probes, 2 * old);
+    gl::Buffer table = gl::Buffer::create();
+    glNamedBufferStorage(table.id(), GLsizeiptr(capacity_ * sizeof(kernel::ProbeEntry)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    if (table_.id() != 0 && old > 0)
+        glCopyNamedBufferSubData(table_.id(), table.id(), 0, 0, GLsizeiptr(old * sizeof(kernel::ProbeEntry)));
+    table_ = std::move(table);
+    // A new feedback ring: what the old one held for frames in flight is dropped (a hint, not state).
+    staging_->dropFeedback();
+    staging_->feedback = gl::Buffer::create();
+    staging_->words = feedbackWords(capacity_);
+    const auto align = std::size_t(std::max(glInteger(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT), 4));
+    staging_->stride = (staging_->words * 4 + align - 1) / align * align;
+    const GLsizeiptr feedbackBytes = GLsizeiptr(kFeedbackRing * staging_->stride);
+    staging_->feedbackBytes = std::size_t(feedbackBytes);
+    const GLbitfield readFlags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+    glNamedBufferStorage(staging_->feedback.id(), feedbackBytes, nullptr, readFlags | GL_DYNAMIC_STORAGE_BIT);
+    staging_->feedbackWords =
+        static_cast<const std::uint32_t*>(glMapNamedBufferRange(staging_->feedback.id(), 0, feedbackBytes, readFlags));
+    if (!staging_->feedbackWords) throw Error("probe residency: cannot map the feedback buffer");
+    stats_.gpuBytes = atlasBytes_ + kStagingRegions * uploadBound_ + capacity_ * sizeof(kernel::ProbeEntry) +
+                      std::size_t(feedbackBytes);
+}
+
+void ProbeResidency::writeEntry(std::uint32_t id, const ProbeSource& source) {
+    kernel::ProbeEntry e{};
+    e.position = source.position(id);
+    e.distanceScale = source.distanceScale(id);
+    e.slot = slotOf_[id];
+    glNamedBufferSubData(table_.id(), GLintptr(id * sizeof e), sizeof e, &e);
+}
+
+void ProbeResidency::syncProbes(const ProbeSource& source) {
+    const std::size_t before = slotOf_.size();
+    std::size_t live = 0;
+    for (std::uint32_t id = 0; id < source.size(); ++id) live += source.isLive(id) ? 1 : 0;
+    if (unlimited_ && live > slots_ && table_.id() != 0) growAtlas(live);
+    ensureCapacity(source.size());
+    stats_.gpuBytes = atlasBytes_ + kStagingRegions * uploadBound_ + capacity_ * sizeof(kernel::ProbeEntry) +
+                      staging_->feedbackBytes;
+    slotOf_.resize(source.size(), kNoSlot);
+    lastUsed_.resize(source.size(), -1);
+    demand_.resize(source.size(), 0u);
+    loadedAt_.resize(source.size(), -1);
+    if (source.size() > before) {  // new ids: one write of the whole range
+        std::vector<kernel::ProbeEntry> entries(source.size() - before);
+        for (std::size_t i = 0; i < entries.size(); ++i) {
+            const auto id = std::uint32_t(before + i);
+            entries[i] = {source.position(id), source.distanceScale(id), kNoSlot, 0u, 0u, 0u};
+        }
+        glNamedBufferSubData(table_.id(), GLintptr(before * sizeof(kernel::ProbeEntry)),
+                             GLsizeiptr(entries.size() * sizeof(kernel::ProbeEntry)), entries.data());
+    }
+    for (std::uint32_t id = 0; id < slotOf_.size(); ++id)  // removed probes leave their slots
+        if (!source.isLive(id) && slotOf_[id] != kNoSlot) {
+            owner_[slotOf_[id]] = kNoProbe;
+            slotOf_[id] = kNoSlot;
+            writeEntry(id, source);
+            --stats_.resident;
+        }
+}
+
+bool ProbeResidency::isResident(std::uint32_t id) const { return id < slotOf_.size() && slotOf_[id] != kNoSlot; }
+
+void ProbeResidency::readFeedback() {
+    for (std::size_t r = 0; r < kFeedbackRing; ++r) {
+        GLsync& fence = staging_->fences[r];
+        if (!fence || !signalled(fence)) continue;
+        glDeleteSync(fence);
+        fence = nullptr;
+        const std::uint32_t* counts = staging_->feedbackWords + r * staging_->stride / 4;
+        const std::int64_t frame = staging_->frames[r];
+        const bool newest = frame > demandFrame_;
+        if (newest) std::fill(demand_.begin(), demand_.end(), 0u), demandFrame_ = frame;
+        for (std::size_t id = 0; id < std::min(staging_->words, lastUsed_.size()); ++id) {
+            if (counts[id] == 0) continue;
+            lastUsed_[id] = std::max(lastUsed_[id], frame);
+            if (newest) demand_[id] = counts[id];
+        }
+    }
+}
+
+bool ProbeResidency::upload(const ProbeSource& source, std::uint32_t id, std::uint32_t slot, bool direct) {
+    const ProbeView p = source.view(id);  // checks a cache probe's checksum on first use
+    const int res = int(params_.res), depthRes = int(params_.depthRes);
+    const int tile = int(slot) % atlas_.tilesPerPage();
+    const int tx = tile % atlas_.tilesX, ty = tile / atlas_.tilesX;
+    const auto layer = GLint(6 * (int(slot) / atlas_.tilesPerPage()));
+    const void* ao = p.aoConfidence.data();
+    const void* depth = p.depth.data();
+    if (!direct) {  // through this frame's staging region: the copy returns before the GPU reads it
+        const std::size_t region = std::size_t(frame_ % std::int64_t(kStagingRegions));
+        const std::size_t offset = region * uploadBound_ + stats_.frameUploadBytes;
+        std::memcpy(staging_->uploadBytes + offset, p.aoConfidence.data(), p.aoConfidence.size());
+        std::memcpy(staging_->uploadBytes + offset + p.aoConfidence.size(), p.depth.data(), p.depth.size());
+        ao = reinterpret_cast<const void*>(offset);
+        depth = reinterpret_cast<const void*>(offset + p.aoConfidence.size());
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staging_->upload.id());
+    }
+    glCompressedTextureSubImage3D(ao_.id(), 0, tx * res, ty * res, layer, res, res, 6, GL_COMPRESSED_RG_RGTC2,
+                                  GLsizei(p.aoConfidence.size()), ao);
+    glTextureSubImage3D(distance_.id(), 0, tx * depthRes, ty * depthRes, layer, depthRes, depthRes, 6, GL_RED,
+                        depthType(params_.depthFormat), depth);
+    if (!direct) glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    source.release(id);  // the bytes are staged (or copied by the driver): the pages can go
+    stats_.frameUploadBytes += probeGpuBytes(params_);
+    ++stats_.frameUploads;
+    return true;
+}
+
+void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint32_t> wanted, bool unbounded) {
+    const auto start = std::chrono::steady_clock::now();
+    readFeedback();
+    stats_.frameUploads = 0, stats_.frameUploadBytes = 0;
+    if (wanted.size() > slots_) wanted = wanted.first(slots_);
+    const std::size_t region = std::size_t(frame_ % std::int64_t(kStagingRegions));
+    GLsync& regionFence = staging_->uploadFences[region];
+    if (!unbounded) {  // (unbounded uploads go straight from the source's memory)
+        if (regionFence && !signalled(regionFence)) {
+            stats_.frameUploadMs = 0.0;  // the GPU still reads this region: load nothing this frame
+            return;
+        }
+        if (regionFence) glDeleteSync(regionFence), regionFence = nullptr;
+    }
+
+    std::vector<bool> isWanted;  // over ids, only when a slot must be freed
+    std::vector<std::uint32_t> victims;
+    bool victimsMade = false;
+    std::size_t nextFree = 0;
+    const std::size_t perProbe = probeGpuBytes(params_);
+    GLint unpackAlignment = 4;
+    glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // distance rows are 2 · depthRes bytes: odd depthRes is not 4-aligned
+    for (std::size_t w = 0; w < wanted.size(); ++w) {
+        const std::uint32_t id = wanted[w];
+        if (!source.isLive(id) || slotOf_[id] != kNoSlot) continue;
+        if (!unbounded && stats_.frameUploadBytes + perProbe > uploadBound_) {
+            // Ask the kernel for the next ones now, so they are in memory when their frame comes.
+            for (std::size_t a = w; a < std::min(wanted.size(), w + 2 * uploadBound_ / perProbe); ++a)
+                if (slotOf_[wanted[a]] == kNoSlot) source.prefetch(wanted[a]);
+            break;
+        }
+        while (nextFree < owner_.size() && owner_[nextFree] != kNoProbe) ++nextFree;
+        std::uint32_t slot = kNoSlot;
+        if (nextFree < owner_.size()) {
+            slot = std::uint32_t(nextFree);
+        } else {
+            if (!victimsMade) {  // resident, not wanted: the least demanded, then least recently used, first
+                isWanted.assign(slotOf_.size(), false);
+                for (std::uint32_t v : wanted) isWanted[v] = true;
+                for (std::uint32_t s = 0; s < owner_.size(); ++s)
+                    if (owner_[s] != kNoProbe && !isWanted[owner_[s]]) victims.push_back(owner_[s]);
+                std::sort(victims.begin(), victims.end(), [&](std::uint32_t a, std::uint32_t b) {
+                    if (demand_[a] != demand_[b]) return demand_[a] > demand_[b];
+                    return lastUsed_[a] != lastUsed_[b] ? lastUsed_[a] > lastUsed_[b] : a > b;
+                });  // popped from the back
+                victimsMade = true;
+            }
+            if (victims.empty()) break;  // every resident probe is wanted more
+            const std::uint32_t victim = victims.back();
+            // Hysteresis: a probe the pixels use gives way only to one they want clearly more, or two
+            // probes of similar demand would swap places every frame (and every swap is an upload).
+            // A probe only ranked by place (no pixel asked for it yet) does not displace one loaded
+            // within kFreshFrames: as the camera moves, the places near the cut of the ranking swap.
+            const bool victimInUse = lastUsed_[victim] >= frame_ - kInUseFrames;
+            if (victimInUse && double(demand_[id]) <= kSwapMargin * double(demand_[victim]) + kSwapMinimum) break;
+            if (demand_[id] == 0 && loadedAt_[victim] >= frame_ - kFreshFrames) break;
+            victims.pop_back();
+            slot = slotOf_[victim];
+            slotOf_[victim] = kNoSlot;
+            owner_[slot] = kNoProbe;
+            writeEntry(victim, source);
+            ++stats_.evictions;
+            --stats_.resident;
+        }
+        upload(source, id, slot, unbounded);
+        owner_[slot] = id;
+        slotOf_[id] = slot;
+        loadedAt_[id] = frame_;
+        writeEntry(id, source);
+        ++stats_.loads;
+        ++stats_.resident;
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
+    if (stats_.frameUploads > 0) source.releaseAll();  // what was copied, and its neighbours' pages
+    if (!unbounded && stats_.frameUploads > 0) regionFence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    if (frame_ > 0 && !unbounded) stats_.maxFrameUploadBytes = std::max(stats_.maxFrameUploadBytes, stats_.frameUploadBytes);
+    stats_.frameUploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::size_t glBufferBytes(GLuint buffer) {
+    GLint64 size = 0;
+    glGetNamedBufferParameteri64v(buffer, GL_BUFFER_SIZE, &size);
+    return std::size_t(size);
+}
+
+namespace {
+
+// Level 0 of an array texture: width × height × layers × the bytes per texel of its internal format.
+std::size_t glTextureBytes(GLuint texture) {
+    GLint w = 0, h = 0, layers = 0, format = 0;
+    glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_WIDTH, &w);
+    glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_HEIGHT, &h);
+    glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_DEPTH, &layers);
+    glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+    const std::size_t texelBytes = format == GL_COMPRESSED_RG_RGTC2 ? 1 : format == GL_R32F ? 4 : 2;
+    return std::size_t(w) * std::size_t(h) * std::size_t(layers) * texelBytes;
+}
+
+}  // namespace
+
+std::size_t ProbeResidency::allocatedGpuBytes() const {
+    return glTextureBytes(ao_.id()) + glTextureBytes(distance_.id()) + glBufferBytes(table_.id()) +
+           glBufferBytes(staging_->upload.id()) + glBufferBytes(staging_->feedback.id());
+}
+
+void ProbeResidency::bind() {
+    const std::size_t r = std::size_t(frame_ % std::int64_t(kFeedbackRing));
+    GLsync& fence = staging_->fences[r];
+    if (fence) {  // not read yet: read it now if it passed, else drop it (it is only a hint)
+        readFeedback();
+        if (fence) glDeleteSync(fence), fence = nullptr;
+    }
+    const GLintptr offset = GLintptr(r * staging_->stride);
+    const GLsizeiptr size = GLsizeiptr(staging_->words * 4);
+    glClearNamedBufferSubData(staging_->feedback.id(), GL_R32UI, offset, size, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kernel::kProbeFeedbackBuffer, staging_->feedback.id(), offset, size);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kProbeTableBuffer, table_.id());
+    glBindTextureUnit(kernel::kProbeAoUnit, ao_.id());
+    glBindTextureUnit(kernel::kProbeDistanceUnit, distance_.id());
+}
+
+void ProbeResidency::endFrame() {
+    const std::size_t r = std::size_t(frame_ % std::int64_t(kFeedbackRing));
+    glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
+    staging_->fences[r] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    staging_->frames[r] = frame_;
+    ++frame_;
+}
+
+}  // namespace cubeao

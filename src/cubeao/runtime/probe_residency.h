@@ -1,0 +1,173 @@
+// Which probes are on the GPU (DESIGN.md §4 "Run time that grows"): a fixed pool of atlas slots sized
+// from a GPU memory budget, filled from the probes' stored bytes (BC5 AO + confidence, the distance
+// cube in its stored format: compressed all the way, no decode on the CPU) by a priority the caller
+// computes each frame, at most a fixed number of bytes per frame, through a persistently mapped
+// staging ring, so a frame never waits for the disk or for the GPU.
+//
+// Eviction: when a wanted probe needs a slot, the victim is a resident probe that is not wanted, the
+// one the pixels used least recently first (sampled feedback of shaders/runtime/project.comp, read
+// frames later through fences; never waited for). The caller ranks by that feedback too (what the
+// pixels used and what they had to pass over), so a probe the frame's pixels use is never dropped
+// while a worse one stays.
+//
+// ProbeSource is where the bytes live: a mapped cache (pages prefetched before and released after the
+// upload, so the RSS does not grow with the cache) and probes added at run time.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "cubeao/cache/cache_file.h"
+#include "cubeao/gl/handles.h"
+
+namespace cubeao {
+
+// Where slot i's six faces live in the array textures: tile t = i mod (tilesX · tilesY) of page
+// p = i / (tilesX · tilesY), tiles in rows of tilesX, face f of page p in layer 6p + f; a tile is
+// res × res texels in the AO texture and depthRes × depthRes in the distance one. Tiles rather than
+// six layers per probe because GL_MAX_ARRAY_TEXTURE_LAYERS is 2048 on llvmpipe and on NVIDIA, i.e.
+// 341 probes; a 16384² page holds 1,024 probes at 512² or 10,000 at 16² (bench render's sweep).
+struct ProbeAtlasLayout {
+    int tilesX = 1, tilesY = 1, pages = 1;
+    int tilesPerPage() const { return tilesX * tilesY; }
+};
+
+// A near-square page just big enough for `slots` (tilesX = ⌈√slots⌉), at most maxTextureSize / res
+// tiles a side, then more pages. Error naming the counts when 6 · pages exceeds maxLayers.
+ProbeAtlasLayout probeAtlasLayout(std::size_t slots, int res, int maxTextureSize, int maxLayers);
+
+// Probes by id: the cache's probes first (id = cache order), then those added at run time. Removed
+// probes keep their id.
+class ProbeSource {
+public:
+    ProbeSource(const CacheReader* cache, const CacheParams& params);  // cache may be null: start empty
+
+    const CacheParams& params() const { return params_; }
+    std::size_t size() const { return probes_.size(); }
+    bool isLive(std::uint32_t id) const { return id < probes_.size() && probes_[id].live; }
+    glm::vec3 position(std::uint32_t id) const { return probes_[id].position; }
+    // Multiplies a stored distance texel into world units on the GPU (r16unorm: maxDistance; floats: 1).
+    float distanceScale(std::uint32_t id) const;
+
+    // A record with the cache's section sizes (Error otherwise, naming them); returns its id.
+    std::uint32_t add(ProbeRecord record);
+    void remove(std::uint32_t id);  // Error for an unknown or removed id
+
+    // The stored bytes (a cache probe's checksum is checked on first use).
+    ProbeView view(std::uint32_t id) const;
+    void prefetch(std::uint32_t id) const;  // page hints for cache probes; nothing for added ones
+    void release(std::uint32_t id) const;
+    void releaseAll() const;  // every cache page (CacheReader::releaseAll)
+    // Distance-cube texel `texel` (cube::texelIndex order, depthRes faces) in world units, read from
+    // the stored bytes: what the candidate grid's visibility test needs, without a decoded copy.
+    float distance(std::uint32_t id, std::size_t texel) const;
+
+private:
+    struct Probe {
+        glm::vec3 position{0.0f};
+        float maxDistance = 0.0f;
+        bool live = true;
+        std::unique_ptr<ProbeRecord> added;  // null: cache probe `id`
+    };
+    const CacheReader* cache_ = nullptr;
+    CacheParams params_;
+    std::vector<Probe> probes_;
+};
+
+struct ResidencySettings {
+    // GPU bytes for everything the projection allocates (atlases, staging ring, probe table, candidate
+    // grid, feedback); 0 = room for every probe of the source at the start.
+    std::size_t gpuBudgetBytes = 0;
+    // Bytes uploaded per frame at most; 0 → 8 MiB. At least one probe's bytes.
+    std::size_t uploadBytesPerFrame = 0;
+};
+
+struct ResidencyStats {
+    std::size_t slots = 0, resident = 0;  // pool size, probes in it now
+    std::size_t loads = 0, evictions = 0;  // since the start
+    std::size_t frameUploads = 0, frameUploadBytes = 0;  // of the last update
+    double frameUploadMs = 0.0;  // host time the last update spent staging and issuing uploads
+    std::size_t maxFrameUploadBytes = 0;  // the largest frameUploadBytes so far (frames after the first)
+    std::size_t gpuBytes = 0;  // everything the residency allocated (atlases, staging, table, feedback)
+};
+
+// GL_BUFFER_SIZE of a buffer, as the driver reports it.
+std::size_t glBufferBytes(GLuint buffer);
+
+// One probe's bytes on the GPU: 6 res² of BC5 + 6 depthRes² distance texels.
+std::size_t probeGpuBytes(const CacheParams& params);
+
+class ProbeResidency {
+public:
+    // `fixedBytes`: what the caller allocates besides (grid, counters), counted against the budget.
+    // Error when the budget cannot hold one probe, naming what it can hold. Needs a current GL 4.5
+    // context.
+    ProbeResidency(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings);
+    ~ProbeResidency();
+
+    // Slots in the pool. Without a budget the pool holds every live probe and grows (the atlas is
+    // copied on the GPU into one twice the size) when probes are added beyond it.
+    std::size_t slots() const { return slots_; }
+    std::size_t uploadBound() const { return uploadBound_; }  // bytes per frame at most
+    std::int64_t frame() const { return frame_; }  // frames bound so far
+    // Keeps the probe table in step with the source (new ids, removed ones); call after add/remove.
+    void syncProbes(const ProbeSource& source);
+
+    // Frame f: reads the feedback of earlier frames the GPU has finished (polls, never waits), then
+    // loads the `wanted` probes (best first; at most slots() of them are kept) that are not resident,
+    // evicting as described above, within the per-frame byte bound (`unbounded` lifts it: a viewer's
+    // start or a cut to a new place, where the caller prefers one long frame to many poor ones).
+    void update(const ProbeSource& source, std::span<const std::uint32_t> wanted, bool unbounded);
+    // Frame in which the pixels last used or wanted probe `id` according to the feedback read so far
+    // (-1: never), and the newest feedback's demand: sampled pixels (every 4th in x and y) that blended
+    // it or had to pass over it while it was not resident.
+    std::int64_t lastUsed(std::uint32_t id) const { return id < lastUsed_.size() ? lastUsed_[id] : -1; }
+    std::uint32_t demand(std::uint32_t id) const { return id < demand_.size() ? demand_[id] : 0u; }
+    bool isResident(std::uint32_t id) const;
+
+    // Binds the atlases, the probe table and this frame's feedback buffer (cleared) for the
+    // projection; endFrame() fences the feedback after the dispatch.
+    void bind();
+    void endFrame();
+
+    const ProbeAtlasLayout& atlas() const { return atlas_; }
+    GLuint aoTexture() const { return ao_.id(); }
+    GLuint distanceTexture() const { return distance_.id(); }
+    const ResidencyStats& stats() const { return stats_; }
+    // What GL says the residency's textures and buffers hold (sizes queried from the driver): the
+    // check of stats().gpuBytes, for tests.
+    std::size_t allocatedGpuBytes() const;
+
+private:
+    struct Staging;
+    void ensureCapacity(std::size_t probes);
+    void allocateAtlas(std::size_t slots, std::size_t budget);
+    void growAtlas(std::size_t slots);
+    void writeEntry(std::uint32_t id, const ProbeSource& source);
+    void readFeedback();
+    bool upload(const ProbeSource& source, std::uint32_t id, std::uint32_t slot, bool direct);
+
+    CacheParams params_;
+    std::size_t slots_ = 0, capacity_ = 0, uploadBound_ = 0;
+    bool unlimited_ = false;  // no budget: grow with the probe set
+    ProbeAtlasLayout atlas_;
+    gl::Texture ao_, distance_;
+    gl::Buffer table_;
+    std::vector<std::uint32_t> slotOf_;       // per probe id, kernel::kNoSlot when not resident
+    std::vector<std::uint32_t> owner_;        // per slot, kernel::kNoProbe when free
+    std::vector<std::int64_t> lastUsed_;      // per probe id
+    std::vector<std::uint32_t> demand_;       // per probe id, of frame demandFrame_
+    std::int64_t demandFrame_ = -1;
+    std::vector<std::int64_t> loadedAt_;      // per probe id: frame of its last load
+    std::unique_ptr<Staging> staging_;
+    std::int64_t frame_ = 0;
+    std::size_t atlasBytes_ = 0;
+    ResidencyStats stats_;
+};
+
+}  // namespace cubeao

@@ -1,0 +1,252 @@
+// The run-time that grows (issue 13): the candidate grid's live updates against grids built from
+// scratch, and on the GPU the probe residency under a memory budget (GPU bytes measured by GL, not by
+// our own arithmetic), eviction and reload giving identical pixels, and a probe added at run time
+// giving the frame the same probe gives when loaded from a cache.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include "common/runtime_layout.h"
+#include "cubeao/cache/cache_file.h"
+#include "cubeao/runtime/probe_grid.h"
+#include "cubeao/runtime/probe_projection.h"
+#include "cubeao/runtime/renderer.h"
+#include "cubeao/scene/builtin.h"
+#include "cubeao/ssao/gtao_fallback.h"
+#include "cubeao/ssao/ssao_pass.h"
+#include "bake_test_settings.h"
+#include "runtime_test_util.h"
+#include "test_util.h"
+
+namespace {
+
+using namespace cubeao;
+
+// A quality that depends on the probe's position and the point, like the real one (nearer is better,
+// some probes do not see some points), deterministic so two grids can be compared.
+double pseudoQuality(const glm::vec3& probe, const SurfacePoint& x) {
+    const float d = glm::length(probe - x.position);
+    const auto h = std::uint32_t(std::fabs(probe.x * 73.0f + probe.z * 31.0f + x.position.x * 17.0f + x.position.z * 7.0f));
+    if (h % 5 == 0) return 0.0;  // "behind a wall"
+    return 1.0 / (1.0 + double(d) * d);
+}
+
+struct GridCase {
+    std::vector<glm::vec3> probes;
+    std::vector<SurfacePoint> points;
+    ProbeGridSettings settings{2, 1.0f, 0, 6, 16};  // K = 2, 1 m cells, 6 competitors, 16 points
+};
+
+GridCase gridCase(std::size_t probes) {
+    GridCase c;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.0f, 8.0f);
+    for (std::size_t i = 0; i < probes; ++i) c.probes.push_back({u(rng), 1.0f, u(rng)});
+    for (int i = 0; i < 400; ++i) c.points.push_back({{u(rng), 0.0f, u(rng)}, {0.0f, 1.0f, 0.0f}});
+    return c;
+}
+
+ProbeGrid buildGrid(const std::vector<glm::vec3>& probes, const GridCase& c) {
+    // The quality looks probes up by id in `probes` as the grid knows them; copy so later adds see theirs.
+    auto positions = std::make_shared<std::vector<glm::vec3>>(probes);
+    return ProbeGrid({0, 0, 0}, {8, 2, 8}, probes, c.points,
+                     [positions](std::uint32_t p, const SurfacePoint& x) { return pseudoQuality((*positions)[p], x); },
+                     c.settings);
+}
+
+TEST(ProbeGridLive, AddingAProbeGivesTheTableOfAGridBuiltWithItAndTouchesOnlyNearbyCells) {
+    const GridCase c = gridCase(40);
+    auto positions = std::make_shared<std::vector<glm::vec3>>(c.probes.begin(), c.probes.end() - 1);
+    ProbeGrid live({0, 0, 0}, {8, 2, 8}, *positions, c.points,
+                   [positions](std::uint32_t p, const SurfacePoint& x) { return pseudoQuality((*positions)[p], x); },
+                   c.settings);
+    positions->push_back(c.probes.back());
+    const std::vector<std::size_t> changed = live.addProbe(c.probes.back());
+    const ProbeGrid scratch = buildGrid(c.probes, c);
+    EXPECT_EQ(live.table(), scratch.table());
+    EXPECT_GT(changed.size(), 0u);
+    EXPECT_LT(changed.size(), live.cellCount()) << "40 probes, 6 competitors per cell: a probe reaches few cells";
+    EXPECT_EQ(live.liveProbes(), 40u);
+}
+
+TEST(ProbeGridLive, RemovingAProbeGivesTheTableOfAGridBuiltWithoutIt) {
+    const GridCase c = gridCase(40);
+    ProbeGrid live = buildGrid(c.probes, c);
+    const std::uint32_t removed = 17;
+    ASSERT_TRUE(std::find(live.table().begin(), live.table().end(), removed) != live.table().end())
+        << "the test needs a probe some cell lists";
+    const std::vector<std::size_t> changed = live.removeProbe(removed);
+    EXPECT_FALSE(live.isLive(removed));
+    EXPECT_LT(changed.size(), live.cellCount());
+    std::vector<glm::vec3> rest = c.probes;
+    rest.erase(rest.begin() + removed);
+    const ProbeGrid scratch = buildGrid(rest, c);
+    // Ids above the removed one are one less in the scratch grid.
+    std::vector<std::uint32_t> expected = scratch.table();
+    for (std::uint32_t& id : expected)
+        if (id != kernel::kNoProbe && id >= removed) ++id;
+    EXPECT_EQ(live.table(), expected);
+    EXPECT_THROW(live.removeProbe(removed), Error);
+}
+
+// ---- GPU -----------------------------------------------------------------------------------------
+
+// Six probes down the box room's length, baked small: enough for a budget of two to matter.
+const std::vector<glm::vec3>& roomProbes() {
+    static const std::vector<glm::vec3> p = {{1.0f, 1.2f, 1.5f}, {3.0f, 1.2f, 1.5f}, {5.0f, 1.2f, 1.5f},
+                                             {7.0f, 1.2f, 1.5f}, {2.0f, 2.0f, 3.0f}, {6.0f, 2.0f, 3.0f}};
+    return p;
+}
+
+class ResidencyGl : public GlTest {
+protected:
+    void SetUp() override {
+        GlTest::SetUp();
+        if (IsSkipped()) return;
+        dir_ = std::make_unique<test::TempDir>("residency");
+        const BakeSettings s = test::bakeSettings(Estimator::Traced, 16, 1.0f, 4);
+        const std::span<const glm::vec3> all(roomProbes());
+        full_ = (*dir_ / "all.cubeao").string();
+        test::bakeCache(test::boxRoom(), all, s, full_);
+        lessOne_ = (*dir_ / "less.cubeao").string();
+        test::bakeCache(test::boxRoom(), all.first(all.size() - 1), s, lessOne_);
+    }
+
+    std::unique_ptr<FrameRenderer> renderer(std::unique_ptr<AoPass> pass) const {
+        const Scene& scene = test::boxRoom();
+        BlurSettings blur;
+        blur.radius = 0;
+        return std::make_unique<FrameRenderer>(scene.positions, scene.indices, std::move(pass), blur,
+                                               test::compositeSettings());
+    }
+    static std::unique_ptr<ProbeProjectionPass> pass(const CacheReader& cache, std::size_t budgetBytes = 0,
+                                                     std::size_t uploadBytes = 0) {
+        ProbeProjectionSettings s;
+        s.residency.gpuBudgetBytes = budgetBytes;
+        s.residency.uploadBytesPerFrame = uploadBytes;
+        return std::make_unique<ProbeProjectionPass>(cache, test::boxRoom().positions, test::boxRoom().indices, s);
+    }
+    static CameraView view(glm::vec3 eye, glm::vec3 target) {
+        return test::viewOf(test::singleFrame(eye, target), 0, 48, 32);
+    }
+
+    std::unique_ptr<test::TempDir> dir_;
+    std::string full_, lessOne_;
+};
+
+// GPU bytes of the pass's textures and buffers as GL reports them.
+TEST_F(ResidencyGl, TheGpuBytesAllocatedNeverExceedTheBudget) {
+    const CacheReader cache(full_);
+    const std::size_t perProbe = probeGpuBytes(cache.params());
+    // The fixed part (grid, table, staging) first: a budget that cannot hold one probe is refused.
+    const std::string m = test::errorMessage([&] { pass(cache, 1024); });
+    EXPECT_NE(m.find("cannot hold one probe"), std::string::npos) << m;
+    const std::size_t allResident = pass(cache)->gpuBytes();
+    for (const std::size_t budget : {allResident, allResident - 2 * perProbe, allResident - 4 * perProbe}) {
+        auto p = pass(cache, budget);
+        const std::size_t measured = p->allocatedGpuBytes();
+        EXPECT_LE(measured, budget) << "budget " << budget;
+        EXPECT_EQ(measured, p->gpuBytes()) << "the pass's own count must be what GL allocated";
+        EXPECT_GE(p->residency().slots(), 1u);
+    }
+}
+
+// A walk from one end of the room to the other and back with room for two probes: probes are evicted
+// and loaded again, and back at the start the frame is the one rendered there before.
+TEST_F(ResidencyGl, ASmallBudgetEvictsAndReloadsAndAReloadedProbeGivesIdenticalPixels) {
+    const CacheReader cache(full_);
+    const std::size_t perProbe = probeGpuBytes(cache.params());
+    // Room for two probes: all six less four, with the same upload bound (the staging ring counts),
+    // plus slack for the feedback ring's alignment padding, which the budget reserves at its largest.
+    const std::size_t budget = pass(cache, 0, perProbe)->gpuBytes() - (roomProbes().size() - 2) * perProbe + 1024;
+    auto r = renderer(pass(cache, budget, perProbe));
+    auto& projection = dynamic_cast<ProbeProjectionPass&>(r->method());
+    ASSERT_LT(projection.residency().slots(), roomProbes().size());
+    const CameraView start = view({1.5f, 1.2f, 2.0f}, {0.5f, 0.3f, 0.5f});
+    const CameraView end = view({6.5f, 1.2f, 2.0f}, {7.5f, 0.3f, 0.5f});
+    const auto settle = [&](const CameraView& v) {
+        for (int f = 0; f < 12; ++f) r->render(v, 0);
+        return r->readRawAo();
+    };
+    const Image before = settle(start);
+    const std::size_t loadsBefore = projection.residency().stats().loads;
+    settle(end);
+    EXPECT_GT(projection.residency().stats().evictions, 0u);
+    const Image after = settle(start);
+    EXPECT_GT(projection.residency().stats().loads, loadsBefore);
+    EXPECT_LE(projection.residency().stats().maxFrameUploadBytes, perProbe) << "one probe per frame at most";
+    ASSERT_EQ(before.pixels.size(), after.pixels.size());
+    EXPECT_EQ(before.pixels, after.pixels);
+    EXPECT_LT(projection.uncoveredFraction(), 0.5) << "the resident probes must cover most of the view";
+}
+
+// Probes 0–4 from a cache plus probe 5 added at run time against all six from one cache; and the
+// six-probe pass with probe 5 removed against the five-probe cache.
+TEST_F(ResidencyGl, AProbeAddedAtRunTimeGivesTheFrameOfTheSameProbeFromACache) {
+    const CacheReader full(full_), less(lessOne_);
+    const CameraView v = view({4.0f, 1.5f, 2.5f}, {6.0f, 0.5f, 0.5f});
+    auto fromCache = renderer(pass(full));
+    fromCache->render(v, 0);
+    const Image expected = fromCache->readRawAo();
+
+    auto live = renderer(pass(less));
+    live->render(v, 0);
+    const Image withoutIt = live->readRawAo();
+    auto& projection = dynamic_cast<ProbeProjectionPass&>(live->method());
+    const std::uint32_t id = projection.addProbe(full.copyProbe(roomProbes().size() - 1));
+    EXPECT_EQ(id, roomProbes().size() - 1);
+    for (int f = 0; f < 3; ++f) live->render(v, 0);  // the new probe streams in within the bound
+    const Image added = live->readRawAo();
+    EXPECT_NE(added.pixels, withoutIt.pixels) << "the sixth probe must change this view";
+    EXPECT_EQ(added.pixels, expected.pixels);
+
+    auto& fullProjection = dynamic_cast<ProbeProjectionPass&>(fromCache->method());
+    fullProjection.removeProbe(id);
+    fromCache->render(v, 0);
+    EXPECT_EQ(fromCache->readRawAo().pixels, withoutIt.pixels);
+}
+
+// With every probe removed no pixel is covered: with the GTAO fallback each pixel with geometry gets
+// exactly what the gtao baseline computes there (same kernel, same jitter), without one it stays open.
+TEST_F(ResidencyGl, APixelNoProbeSeesGetsTheScreenSpaceValueNotOne) {
+    const CacheReader cache(full_);
+    const CameraView v = view({4.0f, 1.5f, 2.5f}, {6.0f, 0.5f, 0.5f});
+    const SsaoSettings gtao = test::methodSettings(SsaoMethod::Gtao, cache.params().radius);
+    auto baseline = renderer(std::make_unique<SsaoPass>(gtao));
+    baseline->render(v, 3);
+    const Image expected = baseline->readRawAo();
+
+    auto probes = pass(cache);
+    probes->setFallback(std::make_unique<GtaoFallback>(gtao));
+    auto& projection = *probes;
+    auto r = renderer(std::move(probes));
+    r->render(v, 3);
+    const Image covered = r->readRawAo();
+    for (std::uint32_t id = 0; id < roomProbes().size(); ++id) projection.removeProbe(id);
+    r->render(v, 3);
+    const Image filled = r->readRawAo();
+    EXPECT_GT(projection.uncoveredFraction(), 0.5);
+    EXPECT_EQ(projection.uncoveredFraction(), projection.geometryFraction());
+    EXPECT_DOUBLE_EQ(projection.fallback()->filledFraction(), projection.uncoveredFraction());
+    std::size_t differs = 0;
+    for (std::size_t i = 0; i < filled.pixels.size(); ++i) {
+        EXPECT_NEAR(filled.pixels[i], expected.pixels[i], 1e-6f) << "pixel " << i;
+        differs += std::fabs(covered.pixels[i] - expected.pixels[i]) > 1e-3f ? 1 : 0;
+    }
+    EXPECT_GT(differs, filled.pixels.size() / 4) << "the probes must have given other values than GTAO";
+
+    projection.setFallback(nullptr);
+    r->render(v, 3);
+    const Image open = r->readRawAo();
+    EXPECT_EQ(*std::min_element(open.pixels.begin(), open.pixels.end()), 1.0f) << "no fallback: open";
+}
+
+}  // namespace
