@@ -86,7 +86,7 @@ CUBEAO_CONST int kFallbackWorkBuffer = 15;      // gtao_fill: FallbackList, then
 // The blend band: a covered pixel at distance d (pixels, Euclidean) from the nearest uncovered one
 // takes mix(its AO, GTAO, max(0, 1 − d / kFallbackBlendPixels)). At most kPixelGroupSize (the band
 // around a tile lies in its 8 neighbours).
-CUBEAO_CONST int kFallbackBlendPixels = 4;
+CUBEAO_CONST int kFallbackBlendPixels = 2;
 
 // One 8 × 8 tile of the frame (std430, 16 bytes).
 struct FallbackTile {
