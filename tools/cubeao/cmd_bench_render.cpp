@@ -277,15 +277,8 @@ struct Timed {
             row["screen_space_fraction"] = screenSpace / n;
         }
         if (const ProbeProjectionPass* p = projection()) {
-            const ResidencyStats& r = p->residency().stats();
             row["gpu_bytes"] = p->gpuBytes();
-            row["residency"] = {{"slots", r.slots},
-                                {"resident", r.resident},
-                                {"loads", r.loads},
-                                {"evictions", r.evictions},
-                                {"upload_bound_bytes", p->residency().uploadBound()},
-                                {"max_frame_upload_bytes", r.maxFrameUploadBytes},
-                                {"gpu_bytes", r.gpuBytes}};
+            row["residency"] = residencyJson(*p);
         }
         return row;
     }

@@ -201,20 +201,13 @@ void run(const RenderArgs& a) {
                                    {"out", a.out}};
     result["peak_rss_mb"] = peakRssMib();
     if (projection) {
-        const ResidencyStats& r = projection->residency().stats();
         result["uncovered_fraction"] = shares.uncovered / double(range.size());
         result["pixels"] = shares.json(range.size());
         result["cache"] = a.cache;
         result["probes"] = cache->probeCount();
-        result["residency"] = {{"gpu_budget_mb", a.gpuBudgetMb},
-                               {"gpu_bytes", projection->gpuBytes()},
-                               {"slots", r.slots},
-                               {"resident", r.resident},
-                               {"loads", r.loads},
-                               {"evictions", r.evictions},
-                               {"upload_bound_bytes", projection->residency().uploadBound()},
-                               {"max_frame_upload_bytes", r.maxFrameUploadBytes},
-                               {"fallback", a.fallback}};
+        result["residency"] = residencyJson(*projection);
+        result["residency"]["gpu_budget_mb"] = a.gpuBudgetMb;
+        result["residency"]["fallback"] = a.fallback;
     }
     std::ofstream(fs::path(a.out) / "render.json") << result.dump(1) << '\n';
     std::printf("render: %s, %zu frames -> %s; median ms: G-buffer %.2f, AO %.2f, blur %.2f, composite %.2f, "

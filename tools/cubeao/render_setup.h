@@ -36,6 +36,18 @@ inline std::unique_ptr<AoPass> makeAoPass(const SsaoSettings& ssao, const CacheR
     return pass;
 }
 
+// What the probes' residency did over a run (render's and bench render's `residency`).
+inline nlohmann::json residencyJson(const ProbeProjectionPass& p) {
+    const ResidencyStats& r = p.residency().stats();
+    return {{"gpu_bytes", p.gpuBytes()},
+            {"slots", r.slots},
+            {"resident", r.resident},
+            {"loads", r.loads},
+            {"evictions", r.evictions},
+            {"upload_bound_bytes", p.residency().uploadBound()},
+            {"max_frame_upload_bytes", r.maxFrameUploadBytes}};
+}
+
 // Peak resident set of this process so far (getrusage), MiB.
 inline double peakRssMib() {
     rusage u{};
