@@ -8,10 +8,12 @@
 // shader defines (declared below), in C++ they are members of a reader object passed first
 // (projectCandidates is then a template over the reader's type):
 //   uint projectionCandidate(int k)                         probe index of candidate k, kNoProbe = end
-//   bool projectionResident(uint probe)                      its texels are on the GPU (run-time residency)
+//   uint projectionSlot(uint probe)                          where its texels are (run-time residency),
+//                                                            kNoSlot = not resident
 //   vec3 projectionProbePosition(uint probe)
-//   float projectionDistance(uint probe, int face, vec2 sc)  decoded distance-cube texel, 0 = empty
-//   vec2 projectionAoConfidence(uint probe, int face, vec2 sc)  (AO, confidence) texel
+//   float projectionDistance(uint probe, uint slot, int face, vec2 sc)  decoded distance-cube texel, 0 = empty
+//   vec2 projectionAoConfidence(uint slot, int face, vec2 sc)  (AO, confidence) texel
+// The slot is read once per candidate and handed to the texel reads (one table read, not three).
 // Texels are those cubeTexelOf(sc, resolution) picks on `face` (cube.h).
 #pragma once
 
@@ -65,10 +67,10 @@ struct ProjectedAo {
 
 #ifndef __cplusplus
 uint projectionCandidate(int k);
-bool projectionResident(uint probe);
+uint projectionSlot(uint probe);
 vec3 projectionProbePosition(uint probe);
-float projectionDistance(uint probe, int face, vec2 sc);
-vec2 projectionAoConfidence(uint probe, int face, vec2 sc);
+float projectionDistance(uint probe, uint slot, int face, vec2 sc);
+vec2 projectionAoConfidence(uint slot, int face, vec2 sc);
 #endif
 
 // AO at world point x with unit normal n (turned to the camera) from up to `count` candidates: per
@@ -84,7 +86,8 @@ CUBEAO_READER_FN ProjectedAo projectCandidates(CUBEAO_READER(reader) int count, 
     for (int k = 0; k < count; ++k) {
         uint probe = CUBEAO_READ(reader) projectionCandidate(k);
         if (probe == kNoProbe) break;
-        if (!CUBEAO_READ(reader) projectionResident(probe)) {
+        uint slot = CUBEAO_READ(reader) projectionSlot(probe);
+        if (slot == kNoSlot) {
             // Only a candidate ranked before every resident one that sees the point is wanted here.
             if (missing == kNoProbe && !(best[0].x > 0.0f)) missing = probe;
             continue;
@@ -94,8 +97,9 @@ CUBEAO_READER_FN ProjectedAo projectCandidates(CUBEAO_READER(reader) int count, 
         float cosine = -dot(n, d) / distance;
         vec2 sc;
         int face = cubeFaceOf(d, sc);
-        if (!probeSeesPoint(CUBEAO_READ(reader) projectionDistance(probe, face, sc), distance, cosine, p)) continue;
-        vec2 v = CUBEAO_READ(reader) projectionAoConfidence(probe, face, sc);
+        if (!probeSeesPoint(CUBEAO_READ(reader) projectionDistance(probe, slot, face, sc), distance, cosine, p))
+            continue;
+        vec2 v = CUBEAO_READ(reader) projectionAoConfidence(slot, face, sc);
         vec2 r = vec2(v.y / probeTexelArea(sc, distance, cosine, p.res, p.minFacing), v.x);
         if (!(r.x > 0.0f)) continue;
         if (r.x > best[0].x) {

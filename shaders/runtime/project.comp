@@ -46,9 +46,9 @@ shared uint groupUncovered, groupFallback, groupGeometry, groupFetches;
 uint cellBase = 0u;  // first candidate slot of the pixel's cell
 uint fetches = 0u;   // texture fetches of this invocation
 
-// Texel of direction sc on `face` of resident `probe` in an atlas of size² tiles.
-ivec3 atlasTexel(uint probe, int face, vec2 sc, int size) {
-    int slot = int(probes[probe].slot);
+// Texel of direction sc on `face` of atlas slot `s` in an atlas of size² tiles.
+ivec3 atlasTexel(uint s, int face, vec2 sc, int size) {
+    int slot = int(s);
     int tile = slot % tilesPerPage;
     ivec2 corner = ivec2(tile % tilesX, tile / tilesX) * size;
     return ivec3(corner + cubeTexelOf(sc, size), 6 * (slot / tilesPerPage) + face);
@@ -60,15 +60,15 @@ void demandProbe(uint probe, uint weight) {
 
 // The reads projectCandidates makes (common/projection.h).
 uint projectionCandidate(int k) { return candidates[cellBase + uint(k)]; }
-bool projectionResident(uint probe) { return probes[probe].slot != kNoSlot; }
+uint projectionSlot(uint probe) { return probes[probe].slot; }
 vec3 projectionProbePosition(uint probe) { return probes[probe].position; }
-float projectionDistance(uint probe, int face, vec2 sc) {
+float projectionDistance(uint probe, uint slot, int face, vec2 sc) {
     fetches += 1u;
-    return texelFetch(distanceTex, atlasTexel(probe, face, sc, params.depthRes), 0).r * probes[probe].distanceScale;
+    return texelFetch(distanceTex, atlasTexel(slot, face, sc, params.depthRes), 0).r * probes[probe].distanceScale;
 }
-vec2 projectionAoConfidence(uint probe, int face, vec2 sc) {
+vec2 projectionAoConfidence(uint slot, int face, vec2 sc) {
     fetches += 1u;
-    return texelFetch(aoTex, atlasTexel(probe, face, sc, params.res), 0).rg;  // r = AO, g = confidence
+    return texelFetch(aoTex, atlasTexel(slot, face, sc, params.res), 0).rg;  // r = AO, g = confidence
 }
 
 void main() {

@@ -25,9 +25,10 @@ struct DecodedReader {
     std::span<const DecodedProbe> probes;
 
     std::uint32_t projectionCandidate(int k) const { return std::uint32_t(k); }
-    bool projectionResident(std::uint32_t) const { return true; }  // decoded probes are all at hand
+    // Decoded probes are all at hand: a probe's slot is its index.
+    std::uint32_t projectionSlot(std::uint32_t probe) const { return probe; }
     glm::vec3 projectionProbePosition(std::uint32_t probe) const { return probes[probe].position; }
-    float projectionDistance(std::uint32_t probe, int face, glm::vec2 sc) const {
+    float projectionDistance(std::uint32_t probe, std::uint32_t, int face, glm::vec2 sc) const {
         const DecodedProbe& p = probes[probe];
         const glm::ivec2 t = cube::texelOf(sc, p.depthRes);
         return p.distance[cube::texelIndex(face, t.x, t.y, p.depthRes)];
