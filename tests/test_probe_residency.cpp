@@ -214,6 +214,30 @@ TEST_F(ResidencyGl, AProbeAddedAtRunTimeGivesTheFrameOfTheSameProbeFromACache) {
     EXPECT_EQ(fromCache->readRawAo().pixels, withoutIt.pixels);
 }
 
+// A viewer placing probes live starts with none: the pass built from the parameters alone, then
+// every probe added, renders the frame of the cache that holds them all.
+TEST_F(ResidencyGl, AnEmptyStartFilledProbeByProbeRendersTheFullCachesFrame) {
+    const CacheReader full(full_);
+    const CameraView v = view({4.0f, 1.5f, 2.5f}, {6.0f, 0.5f, 0.5f});
+    auto fromCache = renderer(pass(full));
+    fromCache->render(v, 0);
+    const Image expected = fromCache->readRawAo();
+
+    auto empty = std::make_unique<ProbeProjectionPass>(full.params(), test::boxRoom().positions,
+                                                       test::boxRoom().indices, ProbeProjectionSettings{}, 2);
+    auto& projection = *empty;
+    auto live = renderer(std::move(empty));
+    live->render(v, 0);
+    EXPECT_EQ(projection.uncoveredFraction(), projection.geometryFraction()) << "no probe yet: nothing covered";
+    for (std::size_t i = 0; i < full.probeCount(); ++i) {
+        EXPECT_EQ(projection.addProbe(full.copyProbe(i)), i);
+        live->render(v, 0);
+    }
+    for (int f = 0; f < 3; ++f) live->render(v, 0);
+    EXPECT_EQ(live->readRawAo().pixels, expected.pixels);
+    EXPECT_EQ(projection.allocatedGpuBytes(), projection.gpuBytes()) << "what GL holds is what the pass counts";
+}
+
 // With every probe removed no pixel is covered: with the GTAO fallback each pixel with geometry gets
 // exactly what the gtao baseline computes there (same kernel, same jitter), without one it stays open.
 TEST_F(ResidencyGl, APixelNoProbeSeesGetsTheScreenSpaceValueNotOne) {

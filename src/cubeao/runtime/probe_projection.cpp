@@ -106,11 +106,8 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     counters_ = gl::Buffer::create();
     glNamedBufferStorage(counters_.id(), sizeof(kernel::PassCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
     const std::size_t fixedBytes = grid_->table().size() * sizeof(std::uint32_t) + sizeof(kernel::PassCounters);
-    ResidencySettings residency = settings.residency;
-    if (!cache && residency.gpuBudgetBytes == 0)  // an empty start: room for the probes expected
-        residency.gpuBudgetBytes = fixedBytes + std::max<std::size_t>(expectedProbes, 1) * (probeGpuBytes(params) + 64) +
-                                   (std::size_t(16) << 20);
-    residency_ = std::make_unique<ProbeResidency>(source_, fixedBytes, residency);
+    // An empty start without a budget: a pool for the probes expected, grown as they come.
+    residency_ = std::make_unique<ProbeResidency>(source_, fixedBytes, settings.residency, cache ? 0 : expectedProbes);
 
     program_ = gl::compileComputeProgram("runtime/project.comp");
     const GLuint p = program_.id();

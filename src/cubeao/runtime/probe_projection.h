@@ -39,7 +39,8 @@ public:
     ProbeProjectionPass(const CacheReader& cache, std::span<const glm::vec3> positions,
                         std::span<const std::uint32_t> indices, const ProbeProjectionSettings& settings = {});
     // No probes yet: they come through addProbe (a viewer placing probes live). `params` are the
-    // probes' (resolutions, depth format, R); the budget is sized for `expectedProbes` when it is 0.
+    // probes' (resolutions, depth format, R). Without a budget the pool starts with `expectedProbes`
+    // slots and grows; with one, probes beyond what it holds stream as from a cache.
     ProbeProjectionPass(const CacheParams& params, std::span<const glm::vec3> positions,
                         std::span<const std::uint32_t> indices, const ProbeProjectionSettings& settings = {},
                         std::size_t expectedProbes = 64);

@@ -156,7 +156,8 @@ struct ProbeResidency::Staging {
     }
 };
 
-ProbeResidency::ProbeResidency(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings)
+ProbeResidency::ProbeResidency(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings,
+                               std::size_t minSlots)
     : params_(source.params()), staging_(std::make_unique<Staging>()) {
     const std::size_t perProbe = probeGpuBytes(params_);
     uploadBound_ = std::max(perProbe, settings.uploadBytesPerFrame ? settings.uploadBytesPerFrame : kDefaultUploadBytes);
@@ -167,7 +168,7 @@ ProbeResidency::ProbeResidency(const ProbeSource& source, std::size_t fixedBytes
     const std::size_t tableBytes =
         capacity_ * sizeof(kernel::ProbeEntry) + kFeedbackRing * (feedbackWords(capacity_) * 4 + 256);
     const std::size_t fixed = fixedBytes + stagingBytes + tableBytes;
-    std::size_t want = n;
+    std::size_t want = std::max(n, minSlots);
     unlimited_ = settings.gpuBudgetBytes == 0;
     if (!unlimited_) {
         if (settings.gpuBudgetBytes < fixed + perProbe)

@@ -107,7 +107,9 @@ public:
     // `fixedBytes`: what the caller allocates besides (grid, counters), counted against the budget.
     // Error when the budget cannot hold one probe, naming what it can hold. Needs a current GL 4.5
     // context.
-    ProbeResidency(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings);
+    // Without a budget the pool starts with room for max(the source's probes, minSlots) and grows.
+    ProbeResidency(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings,
+                   std::size_t minSlots = 0);
     ~ProbeResidency();
 
     // Slots in the pool. Without a budget the pool holds every live probe and grows (the atlas is
