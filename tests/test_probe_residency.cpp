@@ -228,7 +228,7 @@ TEST_F(ResidencyGl, AnEmptyStartFilledProbeByProbeRendersTheFullCachesFrame) {
     auto& projection = *empty;
     auto live = renderer(std::move(empty));
     live->render(v, 0);
-    EXPECT_EQ(projection.uncoveredFraction(), projection.geometryFraction()) << "no probe yet: nothing covered";
+    EXPECT_EQ(projection.uncoveredFraction(), projection.pixelShares().geometry) << "no probe yet: nothing covered";
     for (std::size_t i = 0; i < full.probeCount(); ++i) {
         EXPECT_EQ(projection.addProbe(full.copyProbe(i)), i);
         live->render(v, 0);
@@ -258,7 +258,7 @@ TEST_F(ResidencyGl, APixelNoProbeSeesGetsTheScreenSpaceValueNotOne) {
     r->render(v, 3);
     const Image filled = r->readRawAo();
     EXPECT_GT(projection.uncoveredFraction(), 0.5);
-    EXPECT_EQ(projection.uncoveredFraction(), projection.geometryFraction());
+    EXPECT_EQ(projection.uncoveredFraction(), projection.pixelShares().geometry);
     EXPECT_DOUBLE_EQ(projection.fallback()->filledFraction(), projection.uncoveredFraction());
     std::size_t differs = 0;
     for (std::size_t i = 0; i < filled.pixels.size(); ++i) {

@@ -114,8 +114,9 @@ struct PixelShares {
     double probes = 0.0, fallbackProbe = 0.0, uncovered = 0.0, screenSpace = 0.0, blended = 0.0;
 
     nlohmann::json add(const ProbeProjectionPass& p) {
-        const double u = p.uncoveredFraction(), fb = p.fallbackProbeFraction();
-        const double geometry = std::max(p.geometryFraction(), u + fb);  // exact counts; no rounding below 0
+        const ProbeProjectionPass::PixelShares s = p.pixelShares();
+        const double u = s.uncovered, fb = s.fallbackProbe;
+        const double geometry = std::max(s.geometry, u + fb);  // exact counts; no rounding below 0
         const double filled = p.fallback() ? p.fallback()->filledFraction() : 0.0;
         const double blend = p.fallback() ? p.fallback()->blendedFraction() : 0.0;
         probes += geometry - u - fb, fallbackProbe += fb, uncovered += u, screenSpace += filled, blended += blend;

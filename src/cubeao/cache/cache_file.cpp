@@ -663,19 +663,6 @@ ProbeView CacheReader::probe(std::size_t i) const {
     return {e.index, e.position, e.maxDistance, {data_ + e.aoOffset, e.aoSize}, {data_ + e.depthOffset, e.depthSize}};
 }
 
-namespace {
-
-// The whole pages inside [offset, offset + size) of a mapping, as madvise wants them (page-aligned
-// start); partial pages at the ends are left alone (a neighbour may be in use).
-void advisePages(const std::uint8_t* data, std::uint64_t offset, std::uint64_t size, int advice) {
-    if (!data || size == 0) return;
-    const auto page = std::uint64_t(::sysconf(_SC_PAGESIZE));
-    const std::uint64_t first = (offset + page - 1) / page * page, last = (offset + size) / page * page;
-    if (last > first) ::madvise(const_cast<std::uint8_t*>(data) + first, last - first, advice);
-}
-
-}  // namespace
-
 void CacheReader::prefetch(std::size_t i) const {
     const Entry& e = entry(i);
     const auto page = std::uint64_t(::sysconf(_SC_PAGESIZE));
@@ -684,12 +671,6 @@ void CacheReader::prefetch(std::size_t i) const {
         const std::uint64_t first = offset / page * page;
         if (data_ && size > 0) ::madvise(const_cast<std::uint8_t*>(data_) + first, offset + size - first, MADV_WILLNEED);
     }
-}
-
-void CacheReader::release(std::size_t i) const {
-    const Entry& e = entry(i);
-    advisePages(data_, e.aoOffset, e.aoSize, MADV_DONTNEED);
-    advisePages(data_, e.depthOffset, e.depthSize, MADV_DONTNEED);
 }
 
 void CacheReader::releaseAll() const {

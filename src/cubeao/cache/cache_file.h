@@ -143,13 +143,12 @@ public:
 
     // Page hints for a reader that streams probes (runtime/probe_residency.h). prefetch: ask the
     // kernel to start reading probe i's payload now (MADV_WILLNEED), so a later probe(i) does not wait
-    // for the disk. release: drop its pages from this process's resident set (MADV_DONTNEED; the
-    // mapping is private and read-only, so the next access faults them back in from the page cache),
-    // so streaming through a cache of any size keeps the RSS bounded. Hints: failures are ignored.
+    // for the disk. releaseAll: drop every page of the mapping from this process's resident set
+    // (MADV_DONTNEED; the mapping is private and read-only, so the next access faults them back in
+    // from the page cache), so streaming through a cache of any size keeps the RSS bounded. The whole
+    // mapping, not one probe's pages: the kernel maps a probe's neighbours' pages along with its own
+    // (large page-cache folios), and those would stay. Hints: failures are ignored.
     void prefetch(std::size_t i) const;
-    void release(std::size_t i) const;
-    // Every page of the mapping. Needed besides release(i): the kernel may map a probe's neighbours'
-    // pages along with its own (large page-cache folios), and those stay until dropped.
     void releaseAll() const;
 
     // Every probe checksum and the trailing file checksum; one Error listing every damaged probe.

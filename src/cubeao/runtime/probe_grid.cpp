@@ -194,8 +194,7 @@ std::vector<std::size_t> ProbeGrid::removeProbe(std::uint32_t id) {
 }
 
 std::size_t ProbeGrid::cellOf(const glm::vec3& x) const {
-    const glm::ivec3 c = kernel::candidateCellOf(x, origin_, cell_, dims_);  // the cell project.comp reads
-    return (std::size_t(c.z) * std::size_t(dims_.y) + std::size_t(c.y)) * std::size_t(dims_.x) + std::size_t(c.x);
+    return cellIndex(kernel::candidateCellOf(x, origin_, cell_, dims_));  // the cell project.comp reads
 }
 
 std::span<const std::uint32_t> ProbeGrid::candidates(const glm::vec3& x) const { return cellCandidates(cellOf(x)); }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -48,14 +47,18 @@ private:
     std::vector<std::uint32_t> ids_;
 };
 
+// The cache of a pass, refused before any work when it holds no probe.
+const CacheReader& nonEmpty(const CacheReader& cache) {
+    if (cache.probeCount() == 0) throw Error("render --method probes: the cache holds no probes");
+    return cache;
+}
+
 }  // namespace
 
 ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, std::span<const glm::vec3> positions,
                                          std::span<const std::uint32_t> indices,
                                          const ProbeProjectionSettings& settings)
-    : ProbeProjectionPass(&cache, cache.params(), positions, indices, settings, cache.probeCount()) {
-    if (cache.probeCount() == 0) throw Error("render --method probes: the cache holds no probes");
-}
+    : ProbeProjectionPass(&nonEmpty(cache), cache.params(), positions, indices, settings, cache.probeCount()) {}
 
 ProbeProjectionPass::ProbeProjectionPass(const CacheParams& params, std::span<const glm::vec3> positions,
                                          std::span<const std::uint32_t> indices,
@@ -73,17 +76,13 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     // The grid ranks probes per cell as the pass will, less the confidence (projection.h), reading the
     // distance texel straight from the stored bytes.
     const ProjectSettings project = resolveProjectSettings({});
-    const kernel::ProjectionParams kp{project.depthTolerance, project.depthSlope, project.minFacing, res_, depthRes_};
     auto touched = std::make_shared<TouchedProbes>(source_);
-    const auto quality = [this, kp, touched](std::uint32_t probe, const SurfacePoint& x) {
+    const auto quality = [this, project, touched](std::uint32_t probe, const SurfacePoint& x) {
         touched->touch(probe);
-        const glm::vec3 d = x.position - source_.position(probe);
-        const float distance = glm::length(d);
-        if (!(distance > 0.0f)) return 0.0;
-        const float cosine = -glm::dot(x.normal, d) / distance;
-        const float stored = source_.distance(probe, cube::texelIndex(d, depthRes_));
-        if (!kernel::probeSeesPoint(stored, distance, cosine, kp)) return 0.0;
-        const double area = texelFootprint(source_.position(probe), x.position, x.normal, res_, kp.minFacing);
+        const glm::vec3 at = source_.position(probe);
+        if (x.position == at) return 0.0;  // no direction to look up
+        const float stored = source_.distance(probe, cube::texelIndex(x.position - at, depthRes_));
+        const double area = visibleFootprint(at, stored, res_, depthRes_, x.position, x.normal, project);
         return area > 0.0 ? 1.0 / area : 0.0;  // 1 / inf = 0: not seen
     };
     ProbeGridSettings gridSettings = settings.grid;
@@ -105,9 +104,8 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
                          GL_DYNAMIC_STORAGE_BIT);
     counters_ = gl::Buffer::create();
     glNamedBufferStorage(counters_.id(), sizeof(kernel::PassCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    const std::size_t fixedBytes = grid_->table().size() * sizeof(std::uint32_t) + sizeof(kernel::PassCounters);
     // An empty start without a budget: a pool for the probes expected, grown as they come.
-    residency_ = std::make_unique<ProbeResidency>(source_, fixedBytes, settings.residency, cache ? 0 : expectedProbes);
+    residency_ = std::make_unique<ProbeResidency>(source_, ownGpuBytes(), settings.residency, cache ? 0 : expectedProbes);
 
     program_ = gl::compileComputeProgram("runtime/project.comp");
     const GLuint p = program_.id();
@@ -126,9 +124,11 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
 
 ProbeProjectionPass::~ProbeProjectionPass() = default;
 
-std::size_t ProbeProjectionPass::gpuBytes() const {
-    return residency_->stats().gpuBytes + grid_->table().size() * sizeof(std::uint32_t) + sizeof(kernel::PassCounters);
+std::size_t ProbeProjectionPass::ownGpuBytes() const {
+    return grid_->table().size() * sizeof(std::uint32_t) + sizeof(kernel::PassCounters);  // cells_, counters_
 }
+
+std::size_t ProbeProjectionPass::gpuBytes() const { return residency_->stats().gpuBytes + ownGpuBytes(); }
 
 std::size_t ProbeProjectionPass::allocatedGpuBytes() const {
     return residency_->allocatedGpuBytes() + glBufferBytes(cells_.id()) + glBufferBytes(counters_.id());
@@ -174,13 +174,15 @@ void ProbeProjectionPass::removeProbe(std::uint32_t id) {
 // camera ranked by the distance of their cell from the eye (×2 out of view within two cells, ×4
 // farther) or, if less, 1.25× the distance from where the eye will be `lookaheadFrames` from now,
 // times 1 + their rank in the cell. The box of cells grows until it lists as many probes as there are
-// slots. With room for every probe: all of them, nearest first (the order they stream in).
+// slots. With room for every probe: all of them, nearest first (the order they stream in); nothing
+// once every live probe is resident.
 std::vector<std::uint32_t> ProbeProjectionPass::wantedProbes(const CameraView& view) {
     const glm::mat4 worldFromView = view.worldFromView();
     const glm::vec3 eye(worldFromView[3]);
     if (haveEye_) motion_ = 0.5f * motion_ + 0.5f * (eye - lastEye_);
     lastEye_ = eye, haveEye_ = true;
     const glm::vec3 ahead = eye + motion_ * settings_.lookaheadFrames;
+    if (residency_->stats().resident == grid_->liveProbes()) return {};  // nothing left to load
     const std::size_t n = source_.size();
     const float inf = std::numeric_limits<float>::infinity();
     score_.assign(n, inf);
@@ -227,21 +229,15 @@ std::vector<std::uint32_t> ProbeProjectionPass::wantedProbes(const CameraView& v
         }
     }
     // What the pixels asked for comes first, by how many asked; the rest by place.
-    std::vector<std::uint32_t> demand(listed.size());
-    for (std::size_t i = 0; i < listed.size(); ++i) demand[i] = residency_->demand(listed[i]);
     if (residency_->slots() < grid_->liveProbes())
         for (std::uint32_t id = 0; id < n; ++id)
-            if (residency_->demand(id) > 0 && score_[id] == inf) listed.push_back(id), demand.push_back(residency_->demand(id));
-    std::vector<std::uint32_t> order(listed.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t i, std::uint32_t j) {
-        if (demand[i] != demand[j]) return demand[i] > demand[j];
-        const std::uint32_t a = listed[i], b = listed[j];
+            if (residency_->demand(id) > 0 && score_[id] == inf) listed.push_back(id);
+    std::sort(listed.begin(), listed.end(), [&](std::uint32_t a, std::uint32_t b) {
+        const std::uint32_t da = residency_->demand(a), db = residency_->demand(b);
+        if (da != db) return da > db;
         return score_[a] != score_[b] ? score_[a] < score_[b] : a < b;
     });
-    std::vector<std::uint32_t> ranked(order.size());
-    for (std::size_t i = 0; i < order.size(); ++i) ranked[i] = listed[order[i]];
-    return ranked;
+    return listed;
 }
 
 void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) {
@@ -285,19 +281,10 @@ double ProbeProjectionPass::fetchesPerPixel() const {
     return double(kernel::joinWords(c.fetchesLow, c.fetchesHigh)) / pixels_;
 }
 
-double ProbeProjectionPass::uncoveredFraction() const {
-    if (pixels_ == 0.0) return 0.0;
-    return double(readCounters(counters_).uncovered) / pixels_;
-}
-
-double ProbeProjectionPass::fallbackProbeFraction() const {
-    if (pixels_ == 0.0) return 0.0;
-    return double(readCounters(counters_).fallbackProbe) / pixels_;
-}
-
-double ProbeProjectionPass::geometryFraction() const {
-    if (pixels_ == 0.0) return 0.0;
-    return double(readCounters(counters_).geometry) / pixels_;
+ProbeProjectionPass::PixelShares ProbeProjectionPass::pixelShares() const {
+    if (pixels_ == 0.0) return {};
+    const kernel::PassCounters c = readCounters(counters_);
+    return {double(c.geometry) / pixels_, double(c.uncovered) / pixels_, double(c.fallbackProbe) / pixels_};
 }
 
 }  // namespace cubeao

@@ -62,12 +62,15 @@ public:
     // The next run() loads everything it wants regardless of the per-frame bound (a cut, a teleport).
     void requestUnboundedUpdate() { unbounded_ = true; }
 
-    // Shares of the last frame's pixels, over all pixels: no resident candidate saw
-    // them (screen space, or open without a fallback); covered, but a non-resident candidate was
-    // passed over on the way (the "fallback probe" path). Read back: call after the frame.
-    double uncoveredFraction() const;
-    double fallbackProbeFraction() const;
-    double geometryFraction() const;  // pixels with geometry over all pixels (the rest show the sky)
+    // Shares of the last frame's pixels, over all pixels, from one read-back of the pass's counters:
+    // call after the frame.
+    struct PixelShares {
+        double geometry = 0.0;       // pixels with geometry (the rest show the sky)
+        double uncovered = 0.0;      // no resident candidate saw them (screen space, or open without a fallback)
+        double fallbackProbe = 0.0;  // covered, but a better-ranked candidate was not resident and was passed over
+    };
+    PixelShares pixelShares() const;
+    double uncoveredFraction() const { return pixelShares().uncovered; }
 
     const ProbeGrid& grid() const { return *grid_; }
     const ProbeSource& source() const { return source_; }
@@ -84,6 +87,7 @@ private:
                         std::span<const std::uint32_t> indices, const ProbeProjectionSettings& settings,
                         std::size_t expectedProbes);
     std::vector<std::uint32_t> wantedProbes(const CameraView& view);
+    std::size_t ownGpuBytes() const;  // the candidate grid and the counters: what the residency does not hold
     void uploadCells(std::span<const std::size_t> cells);
 
     ProbeSource source_;

@@ -48,6 +48,13 @@ bool signalled(GLsync fence) {
     return r == GL_ALREADY_SIGNALED || r == GL_CONDITION_SATISFIED;
 }
 
+// Texel corner (x, y) and first layer of slot `slot`'s six faces in an atlas of size² tiles: the
+// layout project.comp's atlasTexel reads.
+glm::ivec3 slotCorner(const ProbeAtlasLayout& l, std::uint32_t slot, int size) {
+    const int tile = int(slot) % l.tilesPerPage();
+    return {tile % l.tilesX * size, tile / l.tilesX * size, 6 * (int(slot) / l.tilesPerPage())};
+}
+
 }  // namespace
 
 ProbeAtlasLayout probeAtlasLayout(std::size_t slots, int res, int maxTextureSize, int maxLayers) {
@@ -106,10 +113,6 @@ void ProbeSource::prefetch(std::uint32_t id) const {
     if (!probes_[id].added && cache_) cache_->prefetch(id);
 }
 
-void ProbeSource::release(std::uint32_t id) const {
-    if (!probes_[id].added && cache_) cache_->release(id);
-}
-
 void ProbeSource::releaseAll() const {
     if (cache_) cache_->releaseAll();
 }
@@ -162,11 +165,9 @@ ProbeResidency::ProbeResidency(const ProbeSource& source, std::size_t fixedBytes
     const std::size_t perProbe = probeGpuBytes(params_);
     uploadBound_ = std::max(perProbe, settings.uploadBytesPerFrame ? settings.uploadBytesPerFrame : kDefaultUploadBytes);
     const std::size_t n = std::max<std::size_t>(source.size(), 1);
-    capacity_ = n;
     const std::size_t stagingBytes = kStagingRegions * uploadBound_;
     // (feedback: each ring entry may be padded to the binding alignment, at most 256 bytes)
-    const std::size_t tableBytes =
-        capacity_ * sizeof(kernel::ProbeEntry) + kFeedbackRing * (feedbackWords(capacity_) * 4 + 256);
+    const std::size_t tableBytes = n * sizeof(kernel::ProbeEntry) + kFeedbackRing * (feedbackWords(n) * 4 + 256);
     const std::size_t fixed = fixedBytes + stagingBytes + tableBytes;
     std::size_t want = std::max(n, minSlots);
     unlimited_ = settings.gpuBudgetBytes == 0;
@@ -191,8 +192,6 @@ ProbeResidency::ProbeResidency(const ProbeSource& source, std::size_t fixedBytes
     staging_->uploadBytes =
         static_cast<std::uint8_t*>(glMapNamedBufferRange(staging_->upload.id(), 0, GLsizeiptr(stagingBytes), writeFlags));
     if (!staging_->uploadBytes) throw Error("probe residency: cannot map the staging buffer");
-    capacity_ = 0;
-    ensureCapacity(n);
     syncProbes(source);
     stats_.slots = slots_;
 }
@@ -222,15 +221,11 @@ void ProbeResidency::growAtlas(std::size_t slots) {
     const ProbeAtlasLayout old = atlas_;
     gl::Texture oldAo = std::move(ao_), oldDistance = std::move(distance_);
     allocateAtlas(std::max(slots, 2 * slots_), 0);
-    const auto corner = [](const ProbeAtlasLayout& l, std::uint32_t slot, int size) {
-        const int tile = int(slot) % l.tilesPerPage();
-        return glm::ivec3(tile % l.tilesX * size, tile / l.tilesX * size, 6 * (int(slot) / l.tilesPerPage()));
-    };
     for (std::uint32_t s = 0; s < owner_.size(); ++s) {
         if (owner_[s] == kNoProbe) continue;
         for (const auto& [from, to, size] : {std::tuple(oldAo.id(), ao_.id(), int(params_.res)),
                                              std::tuple(oldDistance.id(), distance_.id(), int(params_.depthRes))}) {
-            const glm::ivec3 a = corner(old, s, size), b = corner(atlas_, s, size);
+            const glm::ivec3 a = slotCorner(old, s, size), b = slotCorner(atlas_, s, size);
             glCopyImageSubData(from, GL_TEXTURE_2D_ARRAY, 0, a.x, a.y, a.z, to, GL_TEXTURE_2D_ARRAY, 0, b.x, b.y, b.z,
                                size, size, 6);
         }
@@ -241,7 +236,7 @@ void ProbeResidency::growAtlas(std::size_t slots) {
 void ProbeResidency::ensureCapacity(std::size_t probes) {
     if (probes <= capacity_ && table_.id() != 0) return;
     const std::size_t old = capacity_;
-    capacity_ = std::max(probes, 2 * old);
+    capacity_ = std::max({probes, 2 * old, std::size_t(1)});
     gl::Buffer table = gl::Buffer::create();
     glNamedBufferStorage(table.id(), GLsizeiptr(capacity_ * sizeof(kernel::ProbeEntry)), nullptr, GL_DYNAMIC_STORAGE_BIT);
     if (table_.id() != 0 && old > 0)
@@ -260,8 +255,6 @@ void ProbeResidency::ensureCapacity(std::size_t probes) {
     staging_->feedbackWords =
         static_cast<const std::uint32_t*>(glMapNamedBufferRange(staging_->feedback.id(), 0, feedbackBytes, readFlags));
     if (!staging_->feedbackWords) throw Error("probe residency: cannot map the feedback buffer");
-    stats_.gpuBytes = atlasBytes_ + kStagingRegions * uploadBound_ + capacity_ * sizeof(kernel::ProbeEntry) +
-                      std::size_t(feedbackBytes);
 }
 
 void ProbeResidency::writeEntry(std::uint32_t id, const ProbeSource& source) {
@@ -279,7 +272,7 @@ void ProbeResidency::syncProbes(const ProbeSource& source) {
     if (unlimited_ && live > slots_ && table_.id() != 0) growAtlas(live);
     ensureCapacity(source.size());
     stats_.gpuBytes = atlasBytes_ + kStagingRegions * uploadBound_ + capacity_ * sizeof(kernel::ProbeEntry) +
-                      staging_->feedbackBytes;
+                      staging_->feedbackBytes;  // what allocateAtlas and ensureCapacity hold now
     slotOf_.resize(source.size(), kNoSlot);
     lastUsed_.resize(source.size(), -1);
     demand_.resize(source.size(), 0u);
@@ -302,8 +295,6 @@ void ProbeResidency::syncProbes(const ProbeSource& source) {
         }
 }
 
-bool ProbeResidency::isResident(std::uint32_t id) const { return id < slotOf_.size() && slotOf_[id] != kNoSlot; }
-
 void ProbeResidency::readFeedback() {
     for (std::size_t r = 0; r < kFeedbackRing; ++r) {
         GLsync& fence = staging_->fences[r];
@@ -322,12 +313,10 @@ void ProbeResidency::readFeedback() {
     }
 }
 
-bool ProbeResidency::upload(const ProbeSource& source, std::uint32_t id, std::uint32_t slot, bool direct) {
+void ProbeResidency::upload(const ProbeSource& source, std::uint32_t id, std::uint32_t slot, bool direct) {
     const ProbeView p = source.view(id);  // checks a cache probe's checksum on first use
     const int res = int(params_.res), depthRes = int(params_.depthRes);
-    const int tile = int(slot) % atlas_.tilesPerPage();
-    const int tx = tile % atlas_.tilesX, ty = tile / atlas_.tilesX;
-    const auto layer = GLint(6 * (int(slot) / atlas_.tilesPerPage()));
+    const glm::ivec3 a = slotCorner(atlas_, slot, res), d = slotCorner(atlas_, slot, depthRes);
     const void* ao = p.aoConfidence.data();
     const void* depth = p.depth.data();
     if (!direct) {  // through this frame's staging region: the copy returns before the GPU reads it
@@ -339,15 +328,13 @@ bool ProbeResidency::upload(const ProbeSource& source, std::uint32_t id, std::ui
         depth = reinterpret_cast<const void*>(offset + p.aoConfidence.size());
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staging_->upload.id());
     }
-    glCompressedTextureSubImage3D(ao_.id(), 0, tx * res, ty * res, layer, res, res, 6, GL_COMPRESSED_RG_RGTC2,
+    glCompressedTextureSubImage3D(ao_.id(), 0, a.x, a.y, a.z, res, res, 6, GL_COMPRESSED_RG_RGTC2,
                                   GLsizei(p.aoConfidence.size()), ao);
-    glTextureSubImage3D(distance_.id(), 0, tx * depthRes, ty * depthRes, layer, depthRes, depthRes, 6, GL_RED,
-                        depthType(params_.depthFormat), depth);
+    glTextureSubImage3D(distance_.id(), 0, d.x, d.y, d.z, depthRes, depthRes, 6, GL_RED, depthType(params_.depthFormat),
+                        depth);
     if (!direct) glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
-    source.release(id);  // the bytes are staged (or copied by the driver): the pages can go
     stats_.frameUploadBytes += probeGpuBytes(params_);
     ++stats_.frameUploads;
-    return true;
 }
 
 void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint32_t> wanted, bool unbounded) {
@@ -424,7 +411,7 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
         ++stats_.resident;
     }
     glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
-    if (stats_.frameUploads > 0) source.releaseAll();  // what was copied, and its neighbours' pages
+    if (stats_.frameUploads > 0) source.releaseAll();  // the bytes are staged (or copied by the driver)
     if (!unbounded && stats_.frameUploads > 0) regionFence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
     if (frame_ > 0 && !unbounded) stats_.maxFrameUploadBytes = std::max(stats_.maxFrameUploadBytes, stats_.frameUploadBytes);
     stats_.frameUploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -60,8 +60,7 @@ public:
 
     // The stored bytes (a cache probe's checksum is checked on first use).
     ProbeView view(std::uint32_t id) const;
-    void prefetch(std::uint32_t id) const;  // page hints for cache probes; nothing for added ones
-    void release(std::uint32_t id) const;
+    void prefetch(std::uint32_t id) const;  // page hint for a cache probe; nothing for added ones
     void releaseAll() const;  // every cache page (CacheReader::releaseAll)
     // Distance-cube texel `texel` (cube::texelIndex order, depthRes faces) in world units, read from
     // the stored bytes: what the candidate grid's visibility test needs, without a decoded copy.
@@ -130,7 +129,6 @@ public:
     // it or had to pass over it while it was not resident.
     std::int64_t lastUsed(std::uint32_t id) const { return id < lastUsed_.size() ? lastUsed_[id] : -1; }
     std::uint32_t demand(std::uint32_t id) const { return id < demand_.size() ? demand_[id] : 0u; }
-    bool isResident(std::uint32_t id) const;
 
     // Binds the atlases, the probe table and this frame's feedback buffer (cleared) for the
     // projection; endFrame() fences the feedback after the dispatch.
@@ -152,7 +150,7 @@ private:
     void growAtlas(std::size_t slots);
     void writeEntry(std::uint32_t id, const ProbeSource& source);
     void readFeedback();
-    bool upload(const ProbeSource& source, std::uint32_t id, std::uint32_t slot, bool direct);
+    void upload(const ProbeSource& source, std::uint32_t id, std::uint32_t slot, bool direct);
 
     CacheParams params_;
     std::size_t slots_ = 0, capacity_ = 0, uploadBound_ = 0;

@@ -59,18 +59,32 @@ double texelFootprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec
     return double(kernel::probeTexelArea(cube::faceOf(d).sc, distance, facing, res, minFacing));
 }
 
-bool probeSees(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n, const ProjectSettings& settings) {
-    const glm::vec3 d = x - probe.position;
-    const float stored = probe.distance[cube::texelIndex(d, probe.depthRes)];
+namespace {
+
+bool probeSeesStored(const glm::vec3& probe, float stored, int res, int depthRes, const glm::vec3& x,
+                     const glm::vec3& n, const ProjectSettings& settings) {
+    const glm::vec3 d = x - probe;
     const float distance = glm::length(d);
-    return kernel::probeSeesPoint(stored, distance, -glm::dot(n, d) / distance,
-                                  kernelParams(settings, probe.res, probe.depthRes));
+    return kernel::probeSeesPoint(stored, distance, -glm::dot(n, d) / distance, kernelParams(settings, res, depthRes));
+}
+
+}  // namespace
+
+bool probeSees(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n, const ProjectSettings& settings) {
+    const float stored = probe.distance[cube::texelIndex(x - probe.position, probe.depthRes)];
+    return probeSeesStored(probe.position, stored, probe.res, probe.depthRes, x, n, settings);
+}
+
+double visibleFootprint(const glm::vec3& probe, float stored, int res, int depthRes, const glm::vec3& x,
+                        const glm::vec3& n, const ProjectSettings& settings) {
+    if (!probeSeesStored(probe, stored, res, depthRes, x, n, settings)) return kInfinity;
+    return texelFootprint(probe, x, n, res, settings.minFacing);
 }
 
 double visibleFootprint(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n,
                         const ProjectSettings& settings) {
-    if (!probeSees(probe, x, n, settings)) return kInfinity;
-    return texelFootprint(probe.position, x, n, probe.res, settings.minFacing);
+    const float stored = probe.distance[cube::texelIndex(x - probe.position, probe.depthRes)];
+    return visibleFootprint(probe.position, stored, probe.res, probe.depthRes, x, n, settings);
 }
 
 Projected projectAo(std::span<const DecodedProbe> candidates, const glm::vec3& x, const glm::vec3& n,

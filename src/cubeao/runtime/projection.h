@@ -52,6 +52,11 @@ bool probeSees(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n
 // (probe_grid.h), so the grid chooses by what the pass will rank.
 double visibleFootprint(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n,
                         const ProjectSettings& settings);
+// The same for a probe at `probe` (faces res², distance cube depthRes²) whose distance texel in the
+// direction of x is `stored` (cube::texelIndex(x − probe, depthRes)), for readers that hold the
+// distance cube in another form (the run-time's stored bytes, probe_residency.h).
+double visibleFootprint(const glm::vec3& probe, float stored, int res, int depthRes, const glm::vec3& x,
+                        const glm::vec3& n, const ProjectSettings& settings);
 
 struct Projected {
     float ao = 1.0f;

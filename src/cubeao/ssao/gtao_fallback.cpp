@@ -4,18 +4,9 @@
 
 #include "cubeao/core/error.h"
 #include "cubeao/gl/shader.h"
+#include "cubeao/ssao/ssao_pass.h"
 
 namespace cubeao {
-namespace {
-
-void setInt(GLuint program, const char* name, int v) {
-    glProgramUniform1i(program, glGetUniformLocation(program, name), v);
-}
-void setFloat(GLuint program, const char* name, float v) {
-    glProgramUniform1f(program, glGetUniformLocation(program, name), v);
-}
-
-}  // namespace
 
 GtaoFallback::GtaoFallback(const SsaoSettings& settings) : settings_(settings) {
     if (settings.method != SsaoMethod::Gtao)
@@ -28,13 +19,7 @@ GtaoFallback::GtaoFallback(const SsaoSettings& settings) : settings_(settings) {
     const kernel::FallbackList emptyList{0u, 1u, 1u, 0u};  // an indirect dispatch of no group
     emptyList_ = gl::Buffer::create();
     glNamedBufferStorage(emptyList_.id(), sizeof emptyList, &emptyList, 0);
-    // The GTAO uniforms as SsaoPass sets them for its gtao program: the same estimate per pixel.
-    const GLuint p = fill_.id();
-    setFloat(p, "radius", settings.radius);
-    setInt(p, "falloff", falloffUniform(settings.falloff));
-    setInt(p, "directions", settings.directions);
-    setInt(p, "steps", settings.steps);
-    setFloat(p, "maxRadiusPixels", settings.maxRadiusPixels);
+    setSsaoUniforms(fill_.id(), settings);  // as SsaoPass sets its gtao program's: the same estimate per pixel
 }
 
 void GtaoFallback::fill(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) {

@@ -15,13 +15,8 @@ void setFloat(GLuint program, const char* name, float v) {
 
 }  // namespace
 
-SsaoPass::SsaoPass(const SsaoSettings& settings) : settings_(settings) {
-    program_ = gl::compileComputeProgram(std::string("ssao/") + ssaoMethodName(settings.method) + ".comp");
-    fetchCount_ = gl::Buffer::create();
-    glNamedBufferStorage(fetchCount_.id(), sizeof(kernel::PassCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    const GLuint p = program_.id();
-    // Uniforms fixed for the pass's lifetime (GL skips names a method does not use: location −1).
-    glProgramUniform1f(p, glGetUniformLocation(p, "radius"), settings.radius);
+void setSsaoUniforms(GLuint p, const SsaoSettings& settings) {
+    setFloat(p, "radius", settings.radius);
     setInt(p, "falloff", falloffUniform(settings.falloff));
     setInt(p, "directions", settings.directions);
     setInt(p, "steps", settings.steps);
@@ -30,6 +25,13 @@ SsaoPass::SsaoPass(const SsaoSettings& settings) : settings_(settings) {
     setFloat(p, "contrast", settings.alchemyContrast);
     setFloat(p, "bias", settings.alchemyBias);
     setFloat(p, "epsilon", settings.alchemyEpsilon);
+}
+
+SsaoPass::SsaoPass(const SsaoSettings& settings) : settings_(settings) {
+    program_ = gl::compileComputeProgram(std::string("ssao/") + ssaoMethodName(settings.method) + ".comp");
+    fetchCount_ = gl::Buffer::create();
+    glNamedBufferStorage(fetchCount_.id(), sizeof(kernel::PassCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    setSsaoUniforms(program_.id(), settings);  // fixed for the pass's lifetime
 }
 
 void SsaoPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) {

@@ -9,6 +9,11 @@
 
 namespace cubeao {
 
+// Sets the uniforms of a screen-space AO program that `settings` fix for its lifetime (GL skips the
+// names a program does not use): SsaoPass's, and the GTAO fallback's (gtao_fallback.h), so a filled
+// pixel is estimated exactly as the gtao pass estimates it.
+void setSsaoUniforms(GLuint program, const SsaoSettings& settings);
+
 class SsaoPass final : public AoPass {
 public:
     // `settings` must be resolved (resolveSsaoSettings). Compiles the method's program: needs a
