@@ -460,6 +460,31 @@ TEST_P(PipelineGl, RendersWhatTheMeasuringRendererRenders) {
     }
 }
 
+// The probe pass's pixel shares for a frame loop (a viewer's panel): latestPixelShares() polls a fenced
+// ring and never waits (recorded), and once the GPU is done (glFinish outside the recording) the newest
+// it returns equals the blocking read of the last frame's counters.
+TEST_F(StallWrapperGl, ProbePixelSharesArriveWithoutWaiting) {
+    const Scene& scene = boxRoom();
+    FramePipeline pipeline(scene.positions, scene.indices, streamingProbes(scene), BlurSettings{}, compositeSettings());
+    auto& pass = dynamic_cast<ProbeProjectionPass&>(pipeline.method());
+    StallRecorder recorder;
+    std::optional<ProbeProjectionPass::PixelShares> shares;
+    for (std::uint32_t f = 0; f < 8; ++f) {
+        pipeline.render(boxRoomView(f), f);
+        if (auto s = pass.latestPixelShares()) shares = s;
+    }
+    const StallCounts seen = recorder.stop();
+    EXPECT_EQ(seen.total(), 0u) << seen.text();
+    glFinish();
+    const std::optional<ProbeProjectionPass::PixelShares> last = pass.latestPixelShares();
+    ASSERT_TRUE(last.has_value());
+    const ProbeProjectionPass::PixelShares now = pass.pixelShares();  // blocking read of the same frame
+    EXPECT_EQ(last->geometry, now.geometry);
+    EXPECT_EQ(last->uncovered, now.uncovered);
+    EXPECT_EQ(last->fallbackProbe, now.fallbackProbe);
+    EXPECT_GT(last->geometry, 0.5);
+}
+
 INSTANTIATE_TEST_SUITE_P(Methods, PipelineGl, ::testing::ValuesIn(aoMethods()),
                          [](const ::testing::TestParamInfo<AoCase>& info) { return std::string(info.param.name); });
 

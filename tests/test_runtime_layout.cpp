@@ -95,6 +95,12 @@ TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
     EXPECT_EQ(blockBinding(p, "Candidates"), k::kCandidateBuffer);
     EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, "candidates[0]", GL_ARRAY_STRIDE),
               GLint(sizeof(std::uint32_t)));
+
+    // The variant of ProbeProjectionPass::setDiagnostics writes its image at its own unit.
+    const gl::Program diagnostics = gl::compileComputeProgram("runtime/project.comp", {{"PROJECT_DIAGNOSTICS", "1"}});
+    EXPECT_EQ(unitOf(diagnostics.id(), "diagnosticsOut"), k::kDiagnosticsImageUnit);
+    EXPECT_EQ(unitOf(diagnostics.id(), "aoOut"), k::kAoImageUnit);
+    EXPECT_EQ(unitOf(p, "diagnosticsOut"), -1) << "the production kernel has no diagnostics";
 }
 
 // Placement's GPU coverage count (placement/src/gpu_coverage.cpp binds by placement_layout.h).
@@ -215,6 +221,8 @@ TEST(RuntimeLayout, BindingsAreDistinctPerKind) {
         for (std::size_t i = 0; i < list->size(); ++i)
             for (std::size_t j = i + 1; j < list->size(); ++j) EXPECT_NE((*list)[i], (*list)[j]) << i << " vs " << j;
     EXPECT_NE(k::kAoImageUnit, k::kShadedImageUnit);
+    EXPECT_NE(k::kAoImageUnit, k::kDiagnosticsImageUnit);
+    EXPECT_NE(k::kShadedImageUnit, k::kDiagnosticsImageUnit);
     EXPECT_EQ(k::pixelGroups(1), 1u);
     EXPECT_EQ(k::pixelGroups(k::kPixelGroupSize), 1u);
     EXPECT_EQ(k::pixelGroups(k::kPixelGroupSize + 1), 2u);

@@ -27,8 +27,9 @@ CUBEAO_CONST int kProbeAoUnit = 3;        // projection: probe atlas of AO + con
 CUBEAO_CONST int kProbeDistanceUnit = 4;  // projection: probe atlas of distance cubes (value · distanceScale)
 
 // Image units.
-CUBEAO_CONST int kAoImageUnit = 0;      // R32F AO written by project, ssao/* and each blur pass
-CUBEAO_CONST int kShadedImageUnit = 1;  // RGBA8 colour written by the composite
+CUBEAO_CONST int kAoImageUnit = 0;           // R32F AO written by project, ssao/* and each blur pass
+CUBEAO_CONST int kShadedImageUnit = 1;       // RGBA8 colour written by the composite
+CUBEAO_CONST int kDiagnosticsImageUnit = 2;  // RGBA32F diagnostics of project.comp built with PROJECT_DIAGNOSTICS
 
 // Shader storage buffer bindings.
 CUBEAO_CONST int kTriangleNormalsBuffer = 0;  // G-buffer: one world-space vec4 normal per triangle (gl/gpu_mesh.h)

@@ -12,6 +12,17 @@
 // probes it blended and a better-ranked candidate it had to pass over (its demand), which the residency reads back
 // frames later (sampled feedback, as virtual texturing does): it loads what pixels ask for and keeps
 // what they use.
+//
+// Built with PROJECT_DIAGNOSTICS (probe_projection.h setDiagnostics) the pass also writes, per pixel,
+// what the viewer's diagnostic modes show (tools/cubeao-view/view_modes.h) into an RGBA32F image:
+//   r = probe0's id (the probe with the largest blend weight), −1 where none (sky, uncovered)
+//   g = probe0's texel footprint at the point: world units per texel, sqrt(probeTexelArea)
+//   b = probe0's confidence texel there (0..1)
+//   a = path: 0 no geometry (sky), 1 probe, 2 fallback probe (a better-ranked candidate was not
+//       resident), 3 uncovered (screen-space fallback, or open without one)
+// It is computed after projectCandidates from probe0 alone, reading the tables and textures directly
+// rather than through the counted reads, so that the AO, the counters and the feedback are the
+// production kernel's, bit for bit.
 #include "camera.h"
 #include "cube.h"
 #include "projection.h"
@@ -25,6 +36,9 @@ layout(binding = kGBufferNormalUnit) uniform sampler2D normalTex;
 layout(binding = kProbeAoUnit) uniform sampler2DArray aoTex;              // res² tiles
 layout(binding = kProbeDistanceUnit) uniform sampler2DArray distanceTex;  // depthRes² tiles
 layout(r32f, binding = kAoImageUnit) writeonly uniform image2D aoOut;
+#ifdef PROJECT_DIAGNOSTICS
+layout(rgba32f, binding = kDiagnosticsImageUnit) writeonly uniform image2D diagnosticsOut;
+#endif
 
 layout(std430, binding = kProbeTableBuffer) readonly buffer ProbeTable { ProbeEntry probes[]; };
 layout(std430, binding = kCandidateBuffer) readonly buffer Candidates { uint candidates[]; };
@@ -71,6 +85,23 @@ vec2 projectionAoConfidence(uint slot, int face, vec2 sc) {
     return texelFetch(aoTex, atlasTexel(slot, face, sc, params.res), 0).rg;  // r = AO, g = confidence
 }
 
+#ifdef PROJECT_DIAGNOSTICS
+// The diagnostics texel of a point with geometry (see the top of the file).
+vec4 probeDiagnostics(ProjectedAo projected, vec3 x, vec3 n) {
+    if (projected.used == 0) return vec4(-1.0, 0.0, 0.0, 3.0);
+    uint probe = projected.probe0;
+    uint slot = probes[probe].slot;  // resident: projectCandidates just read it
+    vec3 d = x - probes[probe].position;
+    float distance = length(d);
+    float cosine = -dot(n, d) / distance;
+    vec2 sc;
+    int face = cubeFaceOf(d, sc);
+    float footprint = sqrt(probeTexelArea(sc, distance, cosine, params.res, params.minFacing));
+    float confidence = texelFetch(aoTex, atlasTexel(slot, face, sc, params.res), 0).g;
+    return vec4(float(probe), footprint, confidence, projected.missing != kNoProbe ? 2.0 : 1.0);
+}
+#endif
+
 void main() {
     if (gl_LocalInvocationIndex == 0u) {
         groupUncovered = 0u;
@@ -83,6 +114,9 @@ void main() {
     if (onScreen(px)) {
         float depth = texelFetch(depthTex, px, 0).r;
         float ao = 1.0;  // no geometry: open, as in the reference
+#ifdef PROJECT_DIAGNOSTICS
+        vec4 diagnostics = vec4(-1.0, 0.0, 0.0, 0.0);
+#endif
         fetches += 1u;
         if (depth > 0.0) {
             vec3 x = (worldFromView * vec4(viewPosition(px, depth), 1.0)).xyz;
@@ -92,6 +126,9 @@ void main() {
             cellBase = uint((cell.z * gridDims.y + cell.y) * gridDims.x + cell.x) * uint(candidatesPerCell);
             ProjectedAo projected = projectCandidates(candidatesPerCell, x, n, params);
             ao = projected.ao;
+#ifdef PROJECT_DIAGNOSTICS
+            diagnostics = probeDiagnostics(projected, x, n);
+#endif
             atomicAdd(groupGeometry, 1u);
             if (projected.used == 0) {
                 ao = uncoveredAo;
@@ -109,6 +146,9 @@ void main() {
             }
         }
         imageStore(aoOut, px, vec4(ao));
+#ifdef PROJECT_DIAGNOSTICS
+        imageStore(diagnosticsOut, px, diagnostics);
+#endif
     }
     atomicAdd(groupFetches, fetches);
     barrier();

@@ -104,16 +104,31 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
                          GL_DYNAMIC_STORAGE_BIT);
     counters_ = gl::Buffer::create();
     glNamedBufferStorage(counters_.id(), sizeof(kernel::PassCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    sharesRing_ = gl::Buffer::create();
+    const GLbitfield readFlags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+    glNamedBufferStorage(sharesRing_.id(), GLsizeiptr(kSharesRing * sizeof(kernel::PassCounters)), nullptr, readFlags);
+    sharesMapped_ =
+        glMapNamedBufferRange(sharesRing_.id(), 0, GLsizeiptr(kSharesRing * sizeof(kernel::PassCounters)), readFlags);
+    if (!sharesMapped_) throw Error("probe projection: cannot map the counters' read-back ring");
     // An empty start without a budget: a pool for the probes expected, grown as they come.
     residency_ = std::make_unique<ProbeResidency>(source_, ownGpuBytes(), settings.residency, cache ? 0 : expectedProbes);
 
     program_ = gl::compileComputeProgram("runtime/project.comp");
-    const GLuint p = program_.id();
+    configureProgram(program_.id());
+}
+
+ProbeProjectionPass::~ProbeProjectionPass() {
+    for (GLsync& f : sharesFences_)
+        if (f) glDeleteSync(f);
+}
+
+void ProbeProjectionPass::configureProgram(GLuint p) const {
+    const ProjectSettings project = resolveProjectSettings({});
     glProgramUniform3fv(p, uniformLocation(p, "gridOrigin"), 1, glm::value_ptr(grid_->origin()));
     glProgramUniform1f(p, uniformLocation(p, "cellSize"), grid_->cellSize());
     glProgramUniform3iv(p, uniformLocation(p, "gridDims"), 1, glm::value_ptr(grid_->dims()));
     glProgramUniform1i(p, uniformLocation(p, "candidatesPerCell"), candidates_);
-    glProgramUniform1f(p, uniformLocation(p, "uncoveredAo"), 1.0f);
+    glProgramUniform1f(p, uniformLocation(p, "uncoveredAo"), uncoveredAo_);
     // kernel::ProjectionParams, member by member (a plain uniform struct has no buffer layout).
     glProgramUniform1f(p, uniformLocation(p, "params.depthTolerance"), project.depthTolerance);
     glProgramUniform1f(p, uniformLocation(p, "params.depthSlope"), project.depthSlope);
@@ -122,22 +137,47 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     glProgramUniform1i(p, uniformLocation(p, "params.depthRes"), depthRes_);
 }
 
-ProbeProjectionPass::~ProbeProjectionPass() = default;
-
-std::size_t ProbeProjectionPass::ownGpuBytes() const {
-    return grid_->table().size() * sizeof(std::uint32_t) + sizeof(kernel::PassCounters);  // cells_, counters_
+void ProbeProjectionPass::setDiagnostics(bool on) {
+    diagnostics_ = on;
+    if (!on) {
+        diagnosticsImage_ = {};
+        diagnosticsWidth_ = diagnosticsHeight_ = 0;
+        return;
+    }
+    if (diagnosticsProgram_.id() == 0) {
+        diagnosticsProgram_ = gl::compileComputeProgram("runtime/project.comp", {{"PROJECT_DIAGNOSTICS", "1"}});
+        configureProgram(diagnosticsProgram_.id());
+    }
 }
 
-std::size_t ProbeProjectionPass::gpuBytes() const { return residency_->stats().gpuBytes + ownGpuBytes(); }
+std::size_t ProbeProjectionPass::ownGpuBytes() const {
+    // cells_, counters_ and the shares' read-back ring
+    return grid_->table().size() * sizeof(std::uint32_t) + (1 + kSharesRing) * sizeof(kernel::PassCounters);
+}
+
+std::size_t ProbeProjectionPass::gpuBytes() const {
+    const std::size_t diagnostics = std::size_t(diagnosticsWidth_) * std::size_t(diagnosticsHeight_) * 16;  // RGBA32F
+    return residency_->stats().gpuBytes + ownGpuBytes() + diagnostics;
+}
 
 std::size_t ProbeProjectionPass::allocatedGpuBytes() const {
-    return residency_->allocatedGpuBytes() + glBufferBytes(cells_.id()) + glBufferBytes(counters_.id());
+    std::size_t diagnostics = 0;
+    if (diagnosticsImage_.id() != 0) {
+        GLint w = 0, h = 0;
+        glGetTextureLevelParameteriv(diagnosticsImage_.id(), 0, GL_TEXTURE_WIDTH, &w);
+        glGetTextureLevelParameteriv(diagnosticsImage_.id(), 0, GL_TEXTURE_HEIGHT, &h);
+        diagnostics = std::size_t(w) * std::size_t(h) * 16;
+    }
+    return residency_->allocatedGpuBytes() + glBufferBytes(cells_.id()) + glBufferBytes(counters_.id()) +
+           glBufferBytes(sharesRing_.id()) + diagnostics;
 }
 
 void ProbeProjectionPass::setFallback(std::unique_ptr<AoFallback> fallback) {
     fallback_ = std::move(fallback);
-    glProgramUniform1f(program_.id(), uniformLocation(program_.id(), "uncoveredAo"),
-                       fallback_ ? kernel::kUncoveredAo : 1.0f);
+    uncoveredAo_ = fallback_ ? kernel::kUncoveredAo : 1.0f;
+    for (const gl::Program* program : {&program_, &diagnosticsProgram_})
+        if (program->id() != 0)
+            glProgramUniform1f(program->id(), uniformLocation(program->id(), "uncoveredAo"), uncoveredAo_);
 }
 
 void ProbeProjectionPass::uploadCells(std::span<const std::size_t> cells) {
@@ -243,7 +283,7 @@ std::vector<std::uint32_t> ProbeProjectionPass::wantedProbes(const CameraView& v
 void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) {
     residency_->update(source_, wantedProbes(view), unbounded_);
     unbounded_ = false;
-    const GLuint p = program_.id();
+    const GLuint p = diagnostics_ ? diagnosticsProgram_.id() : program_.id();
     glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
     glProgramUniform1i(p, uniformLocation(p, "tilesX"), atlas().tilesX);  // the atlas grows with an unlimited budget
     glProgramUniform1i(p, uniformLocation(p, "tilesPerPage"), atlas().tilesPerPage());
@@ -258,11 +298,54 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
     glBindImageTexture(kernel::kAoImageUnit, aoImage, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kPassCountersBuffer, counters_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kCandidateBuffer, cells_.id());
+    if (diagnostics_) {
+        if (diagnosticsWidth_ != gbuffer.width() || diagnosticsHeight_ != gbuffer.height()) {
+            diagnosticsImage_ = gl::Texture::create(GL_TEXTURE_2D);
+            glTextureStorage2D(diagnosticsImage_.id(), 1, GL_RGBA32F, gbuffer.width(), gbuffer.height());
+            diagnosticsWidth_ = gbuffer.width(), diagnosticsHeight_ = gbuffer.height();
+        }
+        glBindImageTexture(kernel::kDiagnosticsImageUnit, diagnosticsImage_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                           GL_RGBA32F);
+    }
     glDispatchCompute(kernel::pixelGroups(gbuffer.width()), kernel::pixelGroups(gbuffer.height()), 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     residency_->endFrame();
-    if (fallback_) fallback_->fill(gbuffer, view, frame, aoImage);
     pixels_ = double(gbuffer.width()) * double(gbuffer.height());
+    // The counters into this run's ring slot (an unread older frame there is dropped: it is only a
+    // figure for a panel), behind a fence.
+    const std::size_t r = std::size_t(runs_ % kSharesRing);
+    if (sharesFences_[r]) {
+        collectShares();
+        if (sharesFences_[r]) glDeleteSync(sharesFences_[r]), sharesFences_[r] = nullptr;
+    }
+    glCopyNamedBufferSubData(counters_.id(), sharesRing_.id(), 0, GLintptr(r * sizeof(kernel::PassCounters)),
+                             sizeof(kernel::PassCounters));
+    glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
+    sharesFences_[r] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    sharesSerial_[r] = ++runs_;
+    sharesPixels_[r] = pixels_;
+    if (fallback_) fallback_->fill(gbuffer, view, frame, aoImage);
+}
+
+void ProbeProjectionPass::collectShares() {
+    for (std::size_t r = 0; r < kSharesRing; ++r) {
+        GLsync& fence = sharesFences_[r];
+        if (!fence) continue;
+        const GLenum state = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 0);  // a poll: timeout 0
+        if (state != GL_ALREADY_SIGNALED && state != GL_CONDITION_SATISFIED) continue;
+        glDeleteSync(fence);
+        fence = nullptr;
+        if (sharesSerial_[r] < latestSharesSerial_) continue;
+        const kernel::PassCounters& c = static_cast<const kernel::PassCounters*>(sharesMapped_)[r];
+        const double n = sharesPixels_[r];
+        latestShares_ = PixelShares{double(c.geometry) / n, double(c.uncovered) / n, double(c.fallbackProbe) / n};
+        latestSharesSerial_ = sharesSerial_[r];
+    }
+}
+
+std::optional<ProbeProjectionPass::PixelShares> ProbeProjectionPass::latestPixelShares() {
+    collectShares();
+    return latestShares_;
 }
 
 namespace {

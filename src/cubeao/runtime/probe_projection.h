@@ -7,8 +7,10 @@
 // AoFallback) when one is attached, and counted.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -62,6 +64,20 @@ public:
     // The next run() loads everything it wants regardless of the per-frame bound (a cut, a teleport).
     void requestUnboundedUpdate() { unbounded_ = true; }
 
+    // Per-pixel diagnostics for the viewer's modes (tools/cubeao-view/view_modes.h). On, run() uses a
+    // variant of project.comp built with PROJECT_DIAGNOSTICS that also writes diagnosticsTexture():
+    // RGBA32F at the frame's size, row 0 at the top, r = probe0's id (−1 none), g = its texel footprint
+    // at the point (world units per texel), b = its confidence there, a = path (0 sky, 1 probe,
+    // 2 fallback probe, 3 uncovered; the layout is described at the top of project.comp). The AO, the
+    // pixel counters (pixelShares, fetchesPerPixel) and the residency's feedback are the same bit for
+    // bit with it on or off. Off frees the texture. The texture counts in gpuBytes() but lies outside
+    // the residency's budget (a debugging aid, not part of the method).
+    void setDiagnostics(bool on);
+    bool diagnostics() const { return diagnostics_; }
+    // 0 while diagnostics are off or before the first run() with them on; a new texture when the
+    // frame's size changes, so a viewer asks for it every frame.
+    GLuint diagnosticsTexture() const { return diagnosticsImage_.id(); }
+
     // Shares of the last frame's pixels, over all pixels, from one read-back of the pass's counters:
     // call after the frame.
     struct PixelShares {
@@ -70,6 +86,11 @@ public:
         double fallbackProbe = 0.0;  // covered, but a better-ranked candidate was not resident and was passed over
     };
     PixelShares pixelShares() const;
+    // The same for a frame some frames back, without waiting: each run() copies its counters into a ring
+    // of kSharesRing persistently mapped slots with a fence, read once the fence has passed (polled,
+    // never waited on). The newest frame read so far; nullopt until one has been. For a frame loop.
+    static constexpr std::size_t kSharesRing = 3;
+    std::optional<PixelShares> latestPixelShares();
     double uncoveredFraction() const { return pixelShares().uncovered; }
 
     const ProbeGrid& grid() const { return *grid_; }
@@ -89,6 +110,7 @@ private:
     std::vector<std::uint32_t> wantedProbes(const CameraView& view);
     std::size_t ownGpuBytes() const;  // the candidate grid and the counters: what the residency does not hold
     void uploadCells(std::span<const std::size_t> cells);
+    void configureProgram(GLuint program) const;  // the uniforms that stay for the pass's life
 
     ProbeSource source_;
     ProbeProjectionSettings settings_;
@@ -97,7 +119,22 @@ private:
     std::unique_ptr<ProbeResidency> residency_;
     std::unique_ptr<AoFallback> fallback_;
     gl::Program program_;
+    gl::Program diagnosticsProgram_;  // project.comp with PROJECT_DIAGNOSTICS, built on first use
+    gl::Texture diagnosticsImage_;
+    int diagnosticsWidth_ = 0, diagnosticsHeight_ = 0;
+    bool diagnostics_ = false;
+    float uncoveredAo_ = 1.0f;  // what project.comp writes for an uncovered pixel (setFallback)
     gl::Buffer cells_, counters_;
+    // latestPixelShares' ring: slot r of sharesRing_ holds the counters of run() number sharesSerial_[r].
+    gl::Buffer sharesRing_;
+    const void* sharesMapped_ = nullptr;  // kSharesRing kernel::PassCounters, persistently mapped
+    std::array<GLsync, kSharesRing> sharesFences_{};
+    std::array<std::uint64_t, kSharesRing> sharesSerial_{};
+    std::array<double, kSharesRing> sharesPixels_{};
+    std::uint64_t runs_ = 0;
+    std::uint64_t latestSharesSerial_ = 0;
+    std::optional<PixelShares> latestShares_;
+    void collectShares();
     double pixels_ = 0.0;
     bool unbounded_ = true;
     bool haveEye_ = false;
