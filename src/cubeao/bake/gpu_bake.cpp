@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -57,6 +58,26 @@ struct GpuBaker::Impl {
         return header.count;
     }
     void readAll(BakedProbe& out, const glm::vec3& probe, int res) const;
+    // The stages bake() and step() share: the AO pass of the estimator, the encoders, and the
+    // read-backs once the work is done (wait unless a fence says it is).
+    void aoPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
+    void encode();
+    void readEncoded(BakedProbe& out, const glm::vec3& probe, const BakeSettings& s) const;
+    void readCounters(BakedProbe& out, const BakeSettings& s) const;
+
+    // The stepped bake's job (GpuBaker::begin/step/take).
+    enum class Stage { GBuffer, Ao, Encode, Waiting, Ready };
+    struct Job {
+        glm::vec3 probe{0.0f};
+        std::uint32_t index = 0;
+        Stage stage = Stage::GBuffer;
+        GLsync fence = nullptr;  // after the encoders and the error dispatch
+        BakedProbe result;
+    };
+    std::optional<Job> job;
+    ~Impl() {
+        if (job && job->fence) glDeleteSync(job->fence);
+    }
     std::uint64_t fetches() const {
         kernel::FetchCount count{0u, 0u};
         glGetNamedBufferSubData(fetchCount.id(), 0, sizeof count, &count);
@@ -253,6 +274,7 @@ void GpuBaker::Impl::readAll(BakedProbe& out, const glm::vec3& probe, int res) c
 
 BakedProbe GpuBaker::bake(const glm::vec3& probe, std::uint32_t probeIndex) {
     Impl& m = *impl_;
+    if (m.job) throw Error("GpuBaker::bake: a stepped bake is in progress (its buffers are in use)");
     const BakeSettings& s = settings_;
     const std::uint32_t probeKey = probeIndex ^ s.ao.seed;
     BakedProbe out;
@@ -265,18 +287,8 @@ BakedProbe GpuBaker::bake(const glm::vec3& probe, std::uint32_t probeIndex) {
             work();
     };
     stage(out.timings.gbufferMs, [&] { m.renderGBuffer(probe, s.res); });
-    stage(out.timings.aoMs, [&] {
-        switch (s.estimator) {
-            case Estimator::HorizonSplit:
-            case Estimator::Gtao: m.horizonPass(probe, probeKey, s); break;
-            case Estimator::Traced: m.tracedPass(probe, probeKey, s); break;
-            case Estimator::Hybrid: m.hybridPass(probe, probeKey, s); break;
-        }
-    });
-    stage(out.timings.encodeMs, [&] {
-        m.bc5->encode(m.aoBuffer.id());
-        m.depthCube->encode(m.gbuffer.id());
-    });
+    stage(out.timings.aoMs, [&] { m.aoPass(probe, probeKey, s); });
+    stage(out.timings.encodeMs, [&] { m.encode(); });
     const auto clock = std::chrono::steady_clock::now;
     const auto msSince = [&](auto start) { return std::chrono::duration<double, std::milli>(clock() - start).count(); };
     const auto errorStart = clock();
@@ -286,17 +298,148 @@ BakedProbe GpuBaker::bake(const glm::vec3& probe, std::uint32_t probeIndex) {
     if (m.timings) out.timings.errorMs = msSince(errorStart);  // else: mostly the wait for every stage
 
     const auto readbackStart = clock();
-    out.encoded.aoConfidence = m.bc5->read();
-    EncodedDepth depth = m.depthCube->read();
+    m.readEncoded(out, probe, s);
+    if (m.timings) out.timings.readbackMs = msSince(readbackStart);
+    m.readCounters(out, s);
+    return out;
+}
+
+void GpuBaker::Impl::aoPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
+    switch (s.estimator) {
+        case Estimator::HorizonSplit:
+        case Estimator::Gtao: horizonPass(probe, probeKey, s); break;
+        case Estimator::Traced: tracedPass(probe, probeKey, s); break;
+        case Estimator::Hybrid: hybridPass(probe, probeKey, s); break;
+    }
+}
+
+void GpuBaker::Impl::encode() {
+    bc5->encode(aoBuffer.id());
+    depthCube->encode(gbuffer.id());
+}
+
+void GpuBaker::Impl::readEncoded(BakedProbe& out, const glm::vec3& probe, const BakeSettings& s) const {
+    out.encoded.aoConfidence = bc5->read();
+    EncodedDepth depth = depthCube->read();
     out.encoded.depth = std::move(depth.bytes);
     out.encoded.maxDistance = depth.maxDistance;
-    if (m.readback == BakeReadback::All) m.readAll(out, probe, s.res);
-    if (m.timings) out.timings.readbackMs = msSince(readbackStart);
+    if (readback == BakeReadback::All) readAll(out, probe, s.res);
+}
 
-    if (needsHorizon(s.estimator)) out.fetches = m.fetches();
+void GpuBaker::Impl::readCounters(BakedProbe& out, const BakeSettings& s) const {
+    if (needsHorizon(s.estimator)) out.fetches = fetches();
     if (s.estimator == Estimator::Traced) out.tracedTexels = out.encoded.surfaceTexels;
-    if (s.estimator == Estimator::Hybrid) out.tracedTexels = m.hybridTraced();
+    if (s.estimator == Estimator::Hybrid) out.tracedTexels = hybridTraced();
     out.rays = out.tracedTexels * std::uint64_t(s.ao.spp);
+}
+
+namespace {
+
+// The GL state a frame relies on and a bake stage changes, saved at construction and put back at
+// destruction (as CameraGBuffer::render does for its own draw).
+class SavedFrameState {
+public:
+    SavedFrameState() {
+        glGetIntegerv(GL_VIEWPORT, viewport_);
+        glGetIntegerv(GL_CURRENT_PROGRAM, &program_);
+        glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawFramebuffer_);
+        glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readFramebuffer_);
+        glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vertexArray_);
+        glGetIntegerv(GL_DEPTH_FUNC, &depthFunc_);
+        glGetIntegerv(GL_CLIP_ORIGIN, &clipOrigin_);
+        glGetIntegerv(GL_CLIP_DEPTH_MODE, &clipDepthMode_);
+        depthTest_ = glIsEnabled(GL_DEPTH_TEST);
+        cull_ = glIsEnabled(GL_CULL_FACE);
+    }
+    ~SavedFrameState() {
+        glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);
+        glUseProgram(GLuint(program_));
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(drawFramebuffer_));
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readFramebuffer_));
+        glBindVertexArray(GLuint(vertexArray_));
+        glDepthFunc(GLenum(depthFunc_));
+        glClipControl(GLenum(clipOrigin_), GLenum(clipDepthMode_));
+        const auto enable = [](GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); };
+        enable(GL_DEPTH_TEST, depthTest_);
+        enable(GL_CULL_FACE, cull_);
+    }
+    SavedFrameState(const SavedFrameState&) = delete;
+    SavedFrameState& operator=(const SavedFrameState&) = delete;
+
+private:
+    GLint viewport_[4] = {0, 0, 0, 0};
+    GLint program_ = 0, drawFramebuffer_ = 0, readFramebuffer_ = 0, vertexArray_ = 0;
+    GLint depthFunc_ = GL_LESS, clipOrigin_ = GL_LOWER_LEFT, clipDepthMode_ = GL_NEGATIVE_ONE_TO_ONE;
+    GLboolean depthTest_ = GL_FALSE, cull_ = GL_FALSE;
+};
+
+}  // namespace
+
+void GpuBaker::begin(const glm::vec3& probe, std::uint32_t probeIndex) {
+    if (impl_->job) throw Error("GpuBaker::begin: a stepped bake is still in progress (take() it first)");
+    impl_->job.emplace();
+    impl_->job->probe = probe;
+    impl_->job->index = probeIndex;
+}
+
+bool GpuBaker::busy() const { return impl_->job.has_value(); }
+bool GpuBaker::ready() const { return impl_->job && impl_->job->stage == Impl::Stage::Ready; }
+bool GpuBaker::waiting() const { return impl_->job && impl_->job->stage == Impl::Stage::Waiting; }
+
+bool GpuBaker::step() {
+    Impl& m = *impl_;
+    if (!m.job) throw Error("GpuBaker::step: no stepped bake in progress (begin() one first)");
+    Impl::Job& job = *m.job;
+    const BakeSettings& s = settings_;
+    using Stage = Impl::Stage;
+    switch (job.stage) {
+        case Stage::GBuffer: {
+            const SavedFrameState saved;
+            m.renderGBuffer(job.probe, s.res);
+            glFlush();  // start the work now, not at the frame's flush
+            job.stage = Stage::Ao;
+            return false;
+        }
+        case Stage::Ao: {
+            const SavedFrameState saved;
+            m.aoPass(job.probe, job.index ^ s.ao.seed, s);
+            glFlush();
+            job.stage = Stage::Encode;
+            return false;
+        }
+        case Stage::Encode: {
+            const SavedFrameState saved;
+            m.encode();
+            m.bc5->dispatchAoError(m.aoBuffer.id(), m.gbuffer.id());
+            job.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+            glFlush();  // the fence must reach the GPU, or polling it with timeout 0 could never see it signal
+            job.stage = Stage::Waiting;
+            return false;
+        }
+        case Stage::Waiting: {
+            const GLenum status = glClientWaitSync(job.fence, 0, 0);
+            if (status == GL_TIMEOUT_EXPIRED) return false;
+            if (status == GL_WAIT_FAILED) throw Error("GpuBaker::step: glClientWaitSync failed");
+            glDeleteSync(job.fence);
+            job.fence = nullptr;
+            // Everything issued before the fence is done: none of these reads waits.
+            const GpuBc5Encoder::AoError error = m.bc5->readAoError();
+            job.result.encoded.aoSquaredError = error.squaredError;
+            job.result.encoded.surfaceTexels = error.texels;
+            m.readEncoded(job.result, job.probe, s);
+            m.readCounters(job.result, s);
+            job.stage = Stage::Ready;
+            return true;
+        }
+        case Stage::Ready: return true;
+    }
+    return false;
+}
+
+BakedProbe GpuBaker::take() {
+    if (!ready()) throw Error("GpuBaker::take: no stepped bake is ready");
+    BakedProbe out = std::move(impl_->job->result);
+    impl_->job.reset();
     return out;
 }
 

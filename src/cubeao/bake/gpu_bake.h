@@ -46,6 +46,26 @@ public:
     // read-back the readback mode asks for; timings per stage only with setTimings(true).
     BakedProbe bake(const glm::vec3& probe, std::uint32_t probeIndex);
 
+    // The same bake cut into steps that never wait for the GPU, for a frame loop that interleaves bake
+    // work with its frames in one context (the viewer's live placement): begin() starts a job, each
+    // step() issues one stage — the G-buffer; the AO pass (hybrid: its three dispatches); the encoders,
+    // the BC5 error dispatch and a fence — and every later step() polls the fence (glClientWaitSync,
+    // timeout 0) and only once it has signalled does the read-backs, which then cannot wait. step()
+    // returns true when the result is ready; take() hands it over and ends the job. The result is
+    // bit-identical to bake(probe, probeIndex) in the same readback mode (tests/test_live_placement.cpp);
+    // its per-stage timings stay 0 (timing a stage means waiting for it). One job at a time: begin()
+    // throws cubeao::Error while one is in progress, take() unless one is ready. A step restores the GL
+    // state a frame relies on (viewport, program, framebuffers, VAO, depth test and function, face
+    // culling, clip control); buffer and texture binding points are left as the stage set them (every
+    // pass here binds what it uses before it runs).
+    void begin(const glm::vec3& probe, std::uint32_t probeIndex);
+    bool step();
+    BakedProbe take();
+    bool busy() const;   // a job begun and not yet taken
+    bool ready() const;  // the job's result is there for take()
+    // All of the job's work is issued and its fence not yet seen signalled: the next step() only polls.
+    bool waiting() const;
+
     // For tests: the horizon pass alone on a given G-buffer (uploaded), returning (ao, confidence)
     // per texel and, if asked, the G-buffer lookups made; the estimator must be hsplit or gtao.
     std::vector<glm::vec2> horizonOn(const CubeGBuffer& g, std::uint32_t probeIndex, std::uint64_t* fetches = nullptr);

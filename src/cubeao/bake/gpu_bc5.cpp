@@ -40,6 +40,11 @@ void GpuBc5Encoder::encode(GLuint aoConfidenceBuffer) {
 }
 
 GpuBc5Encoder::AoError GpuBc5Encoder::aoError(GLuint aoConfidenceBuffer, GLuint gbufferTexture) const {
+    dispatchAoError(aoConfidenceBuffer, gbufferTexture);
+    return readAoError();
+}
+
+void GpuBc5Encoder::dispatchAoError(GLuint aoConfidenceBuffer, GLuint gbufferTexture) const {
     const GLuint tiles = groups(res_ / bc::kBlockSize);
     glUseProgram(errorProgram_.id());
     glBindTextureUnit(kBakeGBufferUnit, gbufferTexture);
@@ -48,6 +53,10 @@ GpuBc5Encoder::AoError GpuBc5Encoder::aoError(GLuint aoConfidenceBuffer, GLuint 
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeErrorTilesBuffer, partial_.id());
     glDispatchCompute(tiles, tiles, 6);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+GpuBc5Encoder::AoError GpuBc5Encoder::readAoError() const {
+    const GLuint tiles = groups(res_ / bc::kBlockSize);
     std::vector<float> partial(std::size_t(6) * tiles * tiles * 2);
     glGetNamedBufferSubData(partial_.id(), 0, GLsizeiptr(partial.size() * sizeof(float)), partial.data());
     AoError e;

@@ -34,6 +34,11 @@ public:
         std::uint64_t texels = 0;   // surface texels summed over
     };
     AoError aoError(GLuint aoConfidenceBuffer, GLuint gbufferTexture) const;
+    // aoError() in two halves, for a caller that must not wait (GpuBaker::step): the dispatch, with
+    // the barrier buffer reads need, then the read of its per-tile sums (waits unless a fence issued
+    // after the dispatch has signalled). aoError() is the two in a row.
+    void dispatchAoError(GLuint aoConfidenceBuffer, GLuint gbufferTexture) const;
+    AoError readAoError() const;
 
     GLuint blocks() const { return blocks_.id(); }
     int res() const { return res_; }
