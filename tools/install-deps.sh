@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config python3
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri   # headless GL on Mesa (llvmpipe)
-  libglfw3-dev xvfb xauth                                           # viewer window; tested under Xvfb
+  libglfw3-dev libimgui-dev xvfb xauth                              # viewer window, panel; tested under Xvfb
   libglm-dev libopenmesh-dev libassimp-dev assimp-testmodels
   libembree-dev libtbb-dev
   libcgal-dev                          # placement: exact inside test, distance to the surface

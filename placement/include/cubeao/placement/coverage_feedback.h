@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <span>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -54,6 +55,8 @@ public:
     // GPU count is checked against.
     double frameCoverage(const FramePixels& pixels) const;
     const std::vector<glm::vec3>& probes() const { return probes_; }
+    // Probes placed elsewhere (a cache the viewer opened) that the counts should see as covering.
+    void addProbes(std::span<const glm::vec3> probes) { probes_.insert(probes_.end(), probes.begin(), probes.end()); }
 
 private:
     std::vector<std::uint8_t> coveredMask(const FramePixels& pixels) const;

@@ -1,0 +1,157 @@
+#include "cubeao-view/view_modes.h"
+
+#include <array>
+#include <string>
+
+#include "cubeao/core/error.h"
+#include "cubeao/gl/shader.h"
+
+namespace cubeao::viewer {
+namespace {
+
+constexpr std::array<ViewMode, 8> kModes = {ViewMode::Shaded,     ViewMode::Ao,         ViewMode::ProbeId,
+                                            ViewMode::Footprint,  ViewMode::Confidence, ViewMode::Path,
+                                            ViewMode::Baseline,   ViewMode::ReferenceDiff};
+
+// Texture units of view.frag (injected as defines: one source of truth). The viewer draws after the
+// frame's passes, which bind their own units again each frame.
+constexpr int kShadedUnit = 0, kAoUnit = 1, kDiagnosticsUnit = 2, kBaselineUnit = 3, kReferenceUnit = 4;
+constexpr int kUnavailable = -1;  // MODE_UNAVAILABLE
+
+GLint uniformLocation(GLuint program, const char* name) {
+    const GLint location = glGetUniformLocation(program, name);
+    if (location < 0) throw Error(std::string("viewer/view.frag: no active uniform ") + name);
+    return location;
+}
+
+// Restores a capability on scope exit.
+class Capability {
+public:
+    Capability(GLenum cap, bool on) : cap_(cap), was_(glIsEnabled(cap) == GL_TRUE) {
+        on ? glEnable(cap) : glDisable(cap);
+    }
+    ~Capability() { was_ ? glEnable(cap_) : glDisable(cap_); }
+    Capability(const Capability&) = delete;
+    Capability& operator=(const Capability&) = delete;
+
+private:
+    GLenum cap_;
+    bool was_;
+};
+
+}  // namespace
+
+std::span<const ViewMode> allViewModes() { return kModes; }
+
+const char* viewModeName(ViewMode mode) {
+    switch (mode) {
+        case ViewMode::Shaded: return "shaded";
+        case ViewMode::Ao: return "ao";
+        case ViewMode::ProbeId: return "probe";
+        case ViewMode::Footprint: return "footprint";
+        case ViewMode::Confidence: return "confidence";
+        case ViewMode::Path: return "path";
+        case ViewMode::Baseline: return "baseline";
+        case ViewMode::ReferenceDiff: return "diff";
+    }
+    return "?";
+}
+
+std::optional<ViewMode> parseViewMode(std::string_view name) {
+    for (ViewMode mode : kModes)
+        if (name == viewModeName(mode)) return mode;
+    return std::nullopt;
+}
+
+const char* viewModeLegend(ViewMode mode) {
+    switch (mode) {
+        case ViewMode::Shaded: return "the composite: diffuse light times AO";
+        case ViewMode::Ao: return "ambient occlusion: black = occluded, white = open";
+        case ViewMode::ProbeId:
+            return "one colour per probe (the one weighted most), shaded by AO; grey = no probe sees it";
+        case ViewMode::Footprint:
+            return "probe texel size: purple = fine (1/8 of scale), teal = at scale, yellow = coarse (8x); grey = none";
+        case ViewMode::Confidence: return "probe confidence: blue = 0, pink = 0.5, yellow = 1; grey = no probe";
+        case ViewMode::Path:
+            return "grey = probe, amber = fallback probe (better one not loaded), magenta = screen space, blue = sky";
+        case ViewMode::Baseline: return "screen-space baseline AO: black = occluded, white = open";
+        case ViewMode::ReferenceDiff:
+            return "AO - reference: blue = darker, white = equal, red = brighter (full at 0.25)";
+    }
+    return "";
+}
+
+bool viewModeAvailable(ViewMode mode, const ViewInputs& in) {
+    switch (mode) {
+        case ViewMode::Shaded: return in.shaded != 0;
+        case ViewMode::Ao: return in.ao != 0;
+        case ViewMode::ProbeId:
+        case ViewMode::Footprint:
+        case ViewMode::Confidence:
+        case ViewMode::Path: return in.diagnostics != 0;
+        case ViewMode::Baseline: return in.baselineAo != 0;
+        case ViewMode::ReferenceDiff: return in.ao != 0 && in.reference != 0;
+    }
+    return false;
+}
+
+ViewModes::ViewModes() {
+    const auto define = [](const char* name, int value) {
+        return std::pair<std::string, std::string>(name, std::to_string(value));
+    };
+    const gl::ShaderDefines defines = {
+        define("SHADED_UNIT", kShadedUnit),
+        define("AO_UNIT", kAoUnit),
+        define("DIAGNOSTICS_UNIT", kDiagnosticsUnit),
+        define("BASELINE_UNIT", kBaselineUnit),
+        define("REFERENCE_UNIT", kReferenceUnit),
+        define("MODE_SHADED", int(ViewMode::Shaded)),
+        define("MODE_AO", int(ViewMode::Ao)),
+        define("MODE_PROBE_ID", int(ViewMode::ProbeId)),
+        define("MODE_FOOTPRINT", int(ViewMode::Footprint)),
+        define("MODE_CONFIDENCE", int(ViewMode::Confidence)),
+        define("MODE_PATH", int(ViewMode::Path)),
+        define("MODE_BASELINE", int(ViewMode::Baseline)),
+        define("MODE_REFERENCE_DIFF", int(ViewMode::ReferenceDiff)),
+        define("MODE_UNAVAILABLE", kUnavailable),
+    };
+    program_ = gl::compileRenderProgram("viewer/view.vert", "viewer/view.frag", defines);
+    const GLuint p = program_.id();
+    modeLocation_ = uniformLocation(p, "mode");
+    viewportLocation_ = uniformLocation(p, "viewportRect");
+    footprintScaleLocation_ = uniformLocation(p, "footprintScale");
+    hasAoLocation_ = uniformLocation(p, "hasAo");
+    encodeLocation_ = uniformLocation(p, "encodeSrgb");
+    vertexArray_ = gl::VertexArray::create();
+}
+
+bool ViewModes::draw(ViewMode mode, const ViewInputs& in, int x, int y, int width, int height) {
+    const bool available = viewModeAvailable(mode, in);
+    const GLuint p = program_.id();
+    glProgramUniform1i(p, modeLocation_, available ? int(mode) : kUnavailable);
+    glProgramUniform4i(p, viewportLocation_, x, y, width, height);
+    glProgramUniform1f(p, footprintScaleLocation_, in.footprintScale > 0.0f ? in.footprintScale : 1.0f);
+    glProgramUniform1i(p, hasAoLocation_, in.ao != 0 ? 1 : 0);
+    glProgramUniform1i(p, encodeLocation_, srgbFramebuffer_ ? 0 : 1);
+    // Every unit gets its texture or none: the shader only reads those the mode needs.
+    glBindTextureUnit(kShadedUnit, in.shaded);
+    glBindTextureUnit(kAoUnit, in.ao);
+    glBindTextureUnit(kDiagnosticsUnit, in.diagnostics);
+    glBindTextureUnit(kBaselineUnit, in.baselineAo);
+    glBindTextureUnit(kReferenceUnit, in.reference);
+
+    GLint viewport[4] = {0, 0, 0, 0};
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    {
+        const Capability depth(GL_DEPTH_TEST, false), blend(GL_BLEND, false), cull(GL_CULL_FACE, false);
+        glViewport(x, y, width, height);
+        glUseProgram(p);
+        glBindVertexArray(vertexArray_.id());
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glBindVertexArray(0);
+    }
+    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+    return available;
+}
+
+}  // namespace cubeao::viewer

@@ -1,0 +1,960 @@
+#include "cubeao-view/viewer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "cubeao-view/script.h"
+#include "cubeao-view/view_modes.h"
+#include "cubeao/bake/bake_settings.h"
+#include "cubeao/cache/cache_file.h"
+#include "cubeao/core/error.h"
+#include "cubeao/gl/handles.h"
+#include "cubeao/gl/window.h"
+#include "cubeao/metrics/image_io.h"
+#include "cubeao/placement/live_placement.h"
+#include "cubeao/placement/placement.h"
+#include "cubeao/render_setup.h"
+#include "cubeao/runtime/frame_pipeline.h"
+#include "cubeao/scene/builtin.h"
+#include "cubeao/scene/camera_path.h"
+#include "cubeao/scene/import.h"
+
+namespace cubeao::viewer {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// A free camera: eye, unit forward, the scene's up. Turning keeps forward off the up axis.
+struct FlyCamera {
+    glm::vec3 eye{0.0f}, forward{0.0f, 0.0f, -1.0f}, up{0.0f, 1.0f, 0.0f};
+    float fovYDeg = 60.0f, nearPlane = 0.05f;
+
+    glm::vec3 right() const { return glm::normalize(glm::cross(forward, up)); }
+    void turn(float yawDeg, float pitchDeg) {
+        glm::vec3 f = glm::angleAxis(glm::radians(yawDeg), up) * forward;
+        const glm::vec3 r = glm::normalize(glm::cross(f, up));
+        const glm::vec3 pitched = glm::angleAxis(glm::radians(pitchDeg), r) * f;
+        if (std::abs(glm::dot(glm::normalize(pitched), up)) < 0.995f) f = pitched;
+        forward = glm::normalize(f);
+    }
+    void lookAt(const glm::vec3& target) {
+        const glm::vec3 d = target - eye;
+        if (glm::length(d) > 0.0f && std::abs(glm::dot(glm::normalize(d), up)) < 0.9999f) forward = glm::normalize(d);
+    }
+    void move(const glm::vec3& rightUpForward) {
+        eye += right() * rightUpForward.x + up * rightUpForward.y + forward * rightUpForward.z;
+    }
+    // A one-frame camera path, so PinholeCamera builds the basis exactly as for a path frame.
+    CameraPath asPath() const {
+        CameraPath p;
+        p.up = up, p.fovYDeg = fovYDeg, p.nearPlane = nearPlane;
+        p.frames.push_back({eye, eye + forward});
+        return p;
+    }
+    PinholeCamera pinhole(int width, int height) const { return PinholeCamera(asPath(), 0, width, height); }
+    void setFrame(const CameraPath& path, std::size_t f) {
+        up = glm::normalize(path.up), fovYDeg = path.fovYDeg, nearPlane = path.nearPlane;
+        eye = path.frames[f].eye;
+        forward = glm::normalize(path.frames[f].target - eye);
+    }
+};
+
+const char* const kBaselines[] = {"gtao", "hbao", "alchemy"};
+
+gl::Texture texture2D(GLenum format, int width, int height) {
+    gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(t.id(), 1, format, width, height);
+    return t;
+}
+
+// Reads a texture back (tools and screenshots only: this waits for the GPU).
+Image readR32f(GLuint texture, int width, int height) {
+    Image image(width, height);
+    glGetTextureImage(texture, 0, GL_RED, GL_FLOAT, GLsizei(image.pixels.size() * sizeof(float)), image.pixels.data());
+    return image;  // texture row 0 is the image top (camera_view.h): already in Image order
+}
+
+// RGB floats in 0..1 of the bound read framebuffer's rectangle, top row first.
+std::vector<float> readRgb(int width, int height) {
+    std::vector<std::uint8_t> bytes(std::size_t(width) * std::size_t(height) * 4);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+    std::vector<float> rgb(std::size_t(width) * std::size_t(height) * 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c)
+                rgb[(std::size_t(y) * width + x) * 3 + c] =
+                    float(bytes[(std::size_t(height - 1 - y) * width + x) * 4 + c]) / 255.0f;
+    return rgb;
+}
+
+void writeScreenshotPng(const fs::path& file, int width, int height, const std::vector<float>& rgb) {
+    if (file.has_parent_path()) fs::create_directories(file.parent_path());
+    writePngRgb(file, width, height, rgb);
+    spdlog::info("cubeao-view: wrote {}", file.string());
+}
+
+class Viewer {
+public:
+    explicit Viewer(const ViewerOptions& o);
+    ~Viewer();
+    int run();
+
+private:
+    void loadInputs();
+    void buildPipelines();
+    FramePipeline& baselinePipeline(const std::string& name);
+    FramePipeline& activePipeline();
+    ProbeProjectionPass* probes() const;
+    BakeSettings liveBake(Estimator estimator) const;
+
+    bool stepScript();  // false when the script has ended (quit)
+    void handleInput(double dtSeconds);
+    void renderFrame();
+    void drawView(int x, int y, int width, int height);
+    void drawPanel();
+    void handleKeys();
+    bool pressed(int key);  // went down since the last frame
+    void viewScreenshot(const fs::path& file);
+    void windowScreenshot(const fs::path& file);
+    void save(const fs::path& file);
+    fs::path defaultSavePath() const;
+    void startLive();
+    void startRecording(const fs::path& file);
+    void stopRecording();
+    void setPathFrame(std::size_t f);
+    const Image* referenceFor(std::size_t frame);
+    void renderSize(int& w, int& h) const;
+    nlohmann::json summary() const;
+
+    ViewerOptions o_;
+    Scene scene_;
+    std::optional<CameraPath> path_;
+    std::unique_ptr<CacheReader> cache_;
+    SsaoSettings ssao_;
+    CompositeSettings composite_;
+    std::optional<gl::WindowContext> window_;  // set in the constructor; optional only for its deferred creation
+
+    std::unique_ptr<FramePipeline> main_;  // probes (cache or live), or gtao without probes
+    std::map<std::string, std::unique_ptr<FramePipeline>> baselines_;
+    std::unique_ptr<ViewModes> modes_;
+    ViewMode mode_ = ViewMode::Shaded;
+    std::string baseline_ = "gtao";
+
+    // Live placement: the placement scene is built on first use (Embree, free space: seconds).
+    std::unique_ptr<placement::PlacementScene> placementScene_;
+    std::unique_ptr<placement::LivePlacement> live_;
+    bool liveOn_ = false;
+
+    FlyCamera camera_;
+    float speed_ = 1.0f;           // world units per second
+    std::optional<std::size_t> pathFrame_;  // the camera sits on this path frame
+    bool playing_ = false;
+    std::uint32_t serial_ = 0;     // frames rendered
+    int idleFrames_ = 0;           // frames without input
+    int forcedIdle_ = 0;           // script `idle N`
+    bool fixedSize_ = false;
+    int fixedW_ = 0, fixedH_ = 0;
+
+    // Script state.
+    std::vector<ScriptCommand> script_;
+    std::size_t scriptPos_ = 0;
+    int waitFrames_ = 0;
+    int settleLeft_ = 0, rebakeLeft_ = 0;
+    glm::vec4 walkStep_{0.0f};  // (right, up, forward) per frame, w = frames left
+    std::size_t playEnd_ = 0;
+    bool quit_ = false;
+
+    // Recording.
+    std::optional<fs::path> recordFile_;
+    std::vector<CameraFrame> recorded_;
+
+    // Reference frames for the difference mode.
+    std::map<std::size_t, std::optional<Image>> references_;
+    gl::Texture referenceTex_;
+    std::optional<std::size_t> referenceTexFrame_;
+
+    // Figures for the panel.
+    double frameMs_ = 0.0, frameMsMean_ = 0.0;
+    std::optional<PipelineTimings> timings_;
+    ProbeProjectionPass::PixelShares shares_;
+    bool showPanel_ = true;
+    std::string status_;
+    std::deque<double> frameTimes_;
+    std::map<int, bool> keyWasDown_;
+    // Per rendered frame, for --stats: wall ms, the live bake's ms, the script line being run.
+    struct FrameRecord {
+        double ms = 0.0, bakeMs = 0.0;
+        int scriptLine = 0;
+    };
+    std::vector<FrameRecord> frameLog_;
+    int screenshots_ = 0;
+};
+
+Viewer::Viewer(const ViewerOptions& o) : o_(o) {
+    if (!(o.scale > 0.05f && o.scale <= 4.0f)) throw UsageError("--scale must lie in (0.05, 4]");
+    if (o.width < 64 || o.height < 64 || o.width > 16384 || o.height > 16384)
+        throw UsageError("--width/--height must lie in [64, 16384]");
+    if (!(o.bakeMsPerFrame > 0.0 && o.bakeMsPerFrame <= 1000.0)) throw UsageError("--bake-ms must lie in (0, 1000]");
+    if (o.liveRes < 4 || o.liveRes > 2048 || o.liveRes % 4) throw UsageError("--live-res must be a multiple of 4 in [4, 2048]");
+    if (!(o.coverageTarget > 0.0 && o.coverageTarget <= 1.0)) throw UsageError("--coverage-target must lie in (0, 1]");
+    const auto mode = parseViewMode(o.mode);
+    if (!mode) throw UsageError("--mode \"" + o.mode + "\": not a view mode");
+    mode_ = *mode;
+    if (!o.script.empty()) script_ = readScript(o.script);
+    loadInputs();
+    std::string whyNot;
+    auto window = gl::WindowContext::tryCreate(o.width, o.height, "cubeao-view — " + scene_.source, &whyNot);
+    if (!window) throw Error("cubeao-view needs a display with OpenGL 4.5 core: " + whyNot);
+    window_.emplace(std::move(*window));
+    glfwSwapInterval(o.vsync && o.script.empty() ? 1 : 0);  // scripts run as fast as they render
+
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini beside whatever directory we run in
+    ImGui::StyleColorsDark();
+    ImGui::GetStyle().WindowRounding = 4.0f;
+    ImGui_ImplGlfw_InitForOpenGL(window_->window(), true);
+    ImGui_ImplOpenGL3_Init("#version 450 core");
+
+    modes_ = std::make_unique<ViewModes>();
+    buildPipelines();
+    if (o.live) startLive();
+}
+
+Viewer::~Viewer() {
+    if (recordFile_) stopRecording();
+    live_.reset();
+    baselines_.clear();
+    main_.reset();
+    modes_.reset();
+    referenceTex_ = {};
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+}
+
+void Viewer::loadInputs() {
+    scene_ = loadScene(o_.scene);
+    const bool builtin = o_.scene.rfind("builtin:", 0) == 0;
+    if (!o_.camera.empty() || builtin) path_ = resolveCameraPath(o_.camera, o_.scene);
+    if (!o_.cache.empty()) {
+        cache_ = std::make_unique<CacheReader>(o_.cache);
+        cache_->expectScene(scene_.hash);
+    }
+    SsaoSettings s;
+    s.method = SsaoMethod::Gtao;
+    s.radius = cache_ ? cache_->params().radius : 0.0f;
+    ssao_ = resolveSsaoSettings(s, scene_.defaultRadius());
+    composite_ = cli::compositeFor(scene_, 1.0f);
+
+    camera_.up = glm::normalize(scene_.up);
+    if (path_ && !path_->frames.empty()) {
+        setPathFrame(0);
+    } else {
+        // No path: stand at the middle of the bounds, at a third of its height, looking along x.
+        camera_.eye = scene_.bounds.center();
+        camera_.forward = glm::normalize(glm::cross(camera_.up, glm::vec3(0.0f, 0.0f, 1.0f)) +
+                                         glm::vec3(1e-3f, 0.0f, 0.0f));
+        camera_.nearPlane = 1e-3f * scene_.bounds.diagonal();
+    }
+    speed_ = 0.08f * scene_.bounds.diagonal();
+}
+
+void Viewer::buildPipelines() {
+    ProbeProjectionSettings settings;
+    settings.residency.gpuBudgetBytes = std::size_t(o_.gpuBudgetMb * 1024.0 * 1024.0);
+    settings.residency.uploadBytesPerFrame = std::size_t(o_.uploadMb * 1024.0 * 1024.0);
+    std::unique_ptr<AoPass> method;
+    if (cache_) {
+        method = cli::makeAoPass(ssao_, cache_.get(), scene_, settings, true);
+    } else if (o_.live) {
+        // No cache: an empty probe set that live placement fills; GTAO covers what no probe sees yet.
+        method = std::make_unique<ProbeProjectionPass>(cacheParamsFor(liveBake(Estimator::HorizonSplit), scene_.hash),
+                                                       scene_.positions, scene_.indices, settings);
+    } else {
+        method = std::make_unique<SsaoPass>(ssao_);
+    }
+    if (auto* p = dynamic_cast<ProbeProjectionPass*>(method.get()); p && !p->fallback()) {
+        SsaoSettings gtao = ssao_;
+        p->setFallback(std::make_unique<GtaoFallback>(gtao));
+    }
+    main_ = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, std::move(method), BlurSettings{},
+                                            composite_);
+}
+
+FramePipeline& Viewer::baselinePipeline(const std::string& name) {
+    auto& p = baselines_[name];
+    if (!p) {
+        SsaoSettings s = ssao_;
+        s.method = parseSsaoMethod(name);
+        s = resolveSsaoSettings(s, scene_.defaultRadius());
+        p = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, std::make_unique<SsaoPass>(s),
+                                            BlurSettings{}, composite_);
+    }
+    return *p;
+}
+
+FramePipeline& Viewer::activePipeline() { return mode_ == ViewMode::Baseline ? baselinePipeline(baseline_) : *main_; }
+
+ProbeProjectionPass* Viewer::probes() const { return dynamic_cast<ProbeProjectionPass*>(&main_->method()); }
+
+// Live probes match the opened cache (its resolutions, R, falloff), else --live-res at the scene's R.
+BakeSettings Viewer::liveBake(Estimator estimator) const {
+    BakeSettings b;
+    b.estimator = estimator;
+    b.res = o_.liveRes;
+    b.ao.radius = ssao_.radius;
+    if (cache_) {
+        const CacheParams& p = cache_->params();
+        b.res = int(p.res), b.depthRes = int(p.depthRes), b.depthFormat = p.depthFormat;
+        b.ao.falloff = Falloff(p.falloff);
+    }
+    return resolveBakeSettings(b, scene_.defaultRadius());
+}
+
+void Viewer::startLive() {
+    ProbeProjectionPass* pass = probes();
+    if (!pass) {
+        status_ = "live placement needs probes: start with --live (or a --cache)";
+        spdlog::warn("cubeao-view: {}", status_);
+        return;
+    }
+    if (!live_) {
+        const auto start = Clock::now();
+        placement::PlaceSettings ps;
+        ps.radius = ssao_.radius;
+        // Probes go where a production bake (512²) would want them: the coverage criterion's texel
+        // bound scales with the live resolution, so a coarse live bake does not multiply the probes.
+        ps.res = liveBake(Estimator::HorizonSplit).res;
+        ps.texelsPerRadius = placement::PlaceSettings{}.texelsPerRadius * float(ps.res) / 512.0f;
+        ps.target = o_.coverageTarget;
+        placementScene_ = std::make_unique<placement::PlacementScene>(scene_, ps, path_ ? &*path_ : nullptr);
+        placement::LiveSettings ls;
+        ls.bakeMsPerFrame = o_.bakeMsPerFrame;
+        ls.nearPlane = camera_.nearPlane;
+        // The count's frames keep the view's aspect (64 pixels wide).
+        int w = 0, h = 0;
+        renderSize(w, h);
+        ls.feedback.height = std::clamp(int(std::lround(64.0 * double(h) / double(w))), 8, 256);
+        live_ = std::make_unique<placement::LivePlacement>(*placementScene_, liveBake(Estimator::HorizonSplit),
+                                                           liveBake(Estimator::Traced), ls);
+        if (cache_) {
+            // The opened cache's probes are the pass's ids 0..n-1 (ProbeSource keeps the cache's order).
+            std::vector<ProbeRecord> records;
+            std::vector<std::uint32_t> ids;
+            for (std::size_t i = 0; i < cache_->probeCount(); ++i) {
+                const ProbeView v = cache_->probe(i);
+                records.push_back({v.index, v.position, v.maxDistance,
+                                   std::vector<std::uint8_t>(v.aoConfidence.begin(), v.aoConfidence.end()),
+                                   std::vector<std::uint8_t>(v.depth.begin(), v.depth.end())});
+                ids.push_back(std::uint32_t(i));
+            }
+            live_->adopt(std::move(records), ids, cache_->params());
+        }
+        spdlog::info("cubeao-view: live placement ready in {:.1f} s (target coverage {:.0f} %)", msSince(start) / 1000.0,
+                     100.0 * o_.coverageTarget);
+    }
+    liveOn_ = true;
+}
+
+void Viewer::setPathFrame(std::size_t f) {
+    if (!path_ || path_->frames.empty()) return;
+    f = std::min(f, path_->frames.size() - 1);
+    camera_.setFrame(*path_, f);
+    pathFrame_ = f;
+}
+
+void Viewer::renderSize(int& w, int& h) const {
+    if (fixedSize_) {
+        w = fixedW_, h = fixedH_;
+        return;
+    }
+    int fw = 0, fh = 0;
+    window_->framebufferSize(fw, fh);
+    w = std::max(8, int(std::lround(float(fw) * o_.scale)));
+    h = std::max(8, int(std::lround(float(fh) * o_.scale)));
+}
+
+const Image* Viewer::referenceFor(std::size_t frame) {
+    if (o_.reference.empty()) return nullptr;
+    auto it = references_.find(frame);
+    if (it == references_.end()) {
+        const fs::path file = fs::path(o_.reference) / cli::frameName("ao", frame, "exr");
+        std::optional<Image> image;
+        if (fs::exists(file)) {
+            try {
+                image = readImage(file);
+            } catch (const Error& e) {
+                spdlog::warn("cubeao-view: {}", e.what());
+            }
+        }
+        it = references_.emplace(frame, std::move(image)).first;
+    }
+    return it->second ? &*it->second : nullptr;
+}
+
+// One script command per call, except waits, walks and plays, which span frames.
+bool Viewer::stepScript() {
+    if (waitFrames_ > 0) {
+        --waitFrames_;
+        return true;
+    }
+    if (settleLeft_ > 0) {
+        if (live_ && live_->stats().queued > 0) {
+            --settleLeft_;
+            return true;
+        }
+        settleLeft_ = 0;
+    }
+    if (rebakeLeft_ > 0) {
+        if (live_ && live_->stats().toRebake > 0) {
+            --rebakeLeft_;
+            forcedIdle_ = 1;
+            return true;
+        }
+        rebakeLeft_ = 0;
+    }
+    if (walkStep_.w > 0.0f) {
+        camera_.move(glm::vec3(walkStep_));
+        pathFrame_.reset();
+        walkStep_.w -= 1.0f;
+        return true;
+    }
+    if (playing_ && pathFrame_ && *pathFrame_ + 1 < playEnd_) {
+        setPathFrame(*pathFrame_ + 1);
+        return true;
+    }
+    playing_ = false;
+    while (scriptPos_ < script_.size()) {
+        const ScriptCommand& c = script_[scriptPos_++];
+        const auto& n = c.numbers;
+        const std::string where = o_.script + ":" + std::to_string(c.line);
+        const auto needPath = [&] {
+            if (!path_) throw UsageError(where + ": \"" + c.verb + "\" needs --camera PATH.json");
+            if (std::size_t(n[0]) >= path_->frames.size())
+                throw UsageError(where + ": frame " + std::to_string(std::size_t(n[0])) + " is past the path's " +
+                                 std::to_string(path_->frames.size()) + " frames");
+        };
+        if (c.verb == "frames") {
+            if (n[0] < 1.0) continue;
+            waitFrames_ = int(n[0]) - 1;
+            return true;
+        } else if (c.verb == "path") {
+            needPath();
+            setPathFrame(std::size_t(n[0]));
+            return true;
+        } else if (c.verb == "play") {
+            needPath();
+            setPathFrame(std::size_t(n[0]));
+            playEnd_ = std::min<std::size_t>(std::size_t(n[1]), path_->frames.size());
+            playing_ = true;
+            return true;
+        } else if (c.verb == "eye") {
+            camera_.eye = glm::vec3(n[0], n[1], n[2]);
+            pathFrame_.reset();
+        } else if (c.verb == "look") {
+            camera_.lookAt(glm::vec3(n[0], n[1], n[2]));
+            pathFrame_.reset();
+        } else if (c.verb == "move") {
+            camera_.move(glm::vec3(n[0], n[1], n[2]));
+            pathFrame_.reset();
+        } else if (c.verb == "turn") {
+            camera_.turn(float(n[0]), float(n[1]));
+            pathFrame_.reset();
+        } else if (c.verb == "walk") {
+            walkStep_ = glm::vec4(glm::vec3(n[0], n[1], n[2]) / float(n[3]), float(n[3]) - 1.0f);
+            camera_.move(glm::vec3(walkStep_));
+            pathFrame_.reset();
+            return true;
+        } else if (c.verb == "size") {
+            fixedSize_ = true, fixedW_ = int(n[0]), fixedH_ = int(n[1]);
+        } else if (c.verb == "mode") {
+            const auto m = parseViewMode(c.text);
+            if (!m) throw UsageError(where + ": \"" + c.text + "\" is not a view mode");
+            mode_ = *m;
+        } else if (c.verb == "baseline") {
+            if (c.text != "gtao" && c.text != "hbao" && c.text != "alchemy")
+                throw UsageError(where + ": baseline \"" + c.text + "\": expected gtao, hbao or alchemy");
+            baseline_ = c.text;
+        } else if (c.verb == "live") {
+            if (c.text == "on")
+                startLive();
+            else
+                liveOn_ = false;
+        } else if (c.verb == "idle") {
+            forcedIdle_ = int(n[0]);
+            waitFrames_ = int(n[0]) - 1;
+            return true;
+        } else if (c.verb == "settle") {
+            settleLeft_ = int(n[0]);
+            return true;
+        } else if (c.verb == "rebake") {
+            rebakeLeft_ = int(n[0]);
+            forcedIdle_ = 1;
+            return true;
+        } else if (c.verb == "screenshot") {
+            viewScreenshot(c.text);
+        } else if (c.verb == "screenshot-window") {
+            windowScreenshot(c.text);
+        } else if (c.verb == "save") {
+            save(c.text);
+        } else if (c.verb == "record") {
+            if (c.text == "stop")
+                stopRecording();
+            else
+                startRecording(c.text);
+        } else if (c.verb == "quit") {
+            return false;
+        }
+    }
+    return false;  // the end of the script quits, as `quit` does
+}
+
+void Viewer::handleInput(double dt) {
+    GLFWwindow* w = window_->window();
+    const ImGuiIO& io = ImGui::GetIO();
+    const auto down = [&](int key) { return glfwGetKey(w, key) == GLFW_PRESS; };
+    bool moved = false;
+    if (!io.WantCaptureKeyboard) {
+        glm::vec3 d(0.0f);
+        if (down(GLFW_KEY_W)) d.z += 1.0f;
+        if (down(GLFW_KEY_S)) d.z -= 1.0f;
+        if (down(GLFW_KEY_D)) d.x += 1.0f;
+        if (down(GLFW_KEY_A)) d.x -= 1.0f;
+        if (down(GLFW_KEY_E)) d.y += 1.0f;
+        if (down(GLFW_KEY_Q)) d.y -= 1.0f;
+        if (glm::length(d) > 0.0f) {
+            const float fast = down(GLFW_KEY_LEFT_SHIFT) ? 4.0f : 1.0f;
+            camera_.move(glm::normalize(d) * speed_ * fast * float(dt));
+            moved = true;
+        }
+    }
+    static double lastX = 0.0, lastY = 0.0;
+    static bool dragging = false;
+    double x = 0.0, y = 0.0;
+    glfwGetCursorPos(w, &x, &y);
+    const bool look = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
+                      (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS && !io.WantCaptureMouse);
+    if (look && dragging && (x != lastX || y != lastY)) {
+        camera_.turn(float(lastX - x) * 0.15f, float(lastY - y) * 0.15f);
+        moved = true;
+    }
+    dragging = look;
+    lastX = x, lastY = y;
+    if (moved) {
+        pathFrame_.reset();
+        playing_ = false;
+    }
+    idleFrames_ = moved ? 0 : idleFrames_ + 1;
+}
+
+void Viewer::renderFrame() {
+    int w = 0, h = 0;
+    renderSize(w, h);
+    // The difference mode compares pixel by pixel: render at the reference's own size.
+    if (mode_ == ViewMode::ReferenceDiff && pathFrame_)
+        if (const Image* ref = referenceFor(*pathFrame_)) w = ref->width, h = ref->height;
+    const PinholeCamera pinhole = camera_.pinhole(w, h);
+    const CameraView view = CameraView::fromPinhole(pinhole, camera_.nearPlane);
+    const std::uint32_t frame = pathFrame_ ? std::uint32_t(*pathFrame_) : serial_;
+
+    ProbeProjectionPass* pass = probes();
+    if (pass && liveOn_ && live_) {
+        const bool idle = forcedIdle_ > 0 || (script_.empty() && idleFrames_ > 60 && !playing_);
+        live_->frame(camera_.pinhole(w, h), idle, *pass);
+    }
+    if (forcedIdle_ > 0) --forcedIdle_;
+    const bool needsDiagnostics = mode_ == ViewMode::ProbeId || mode_ == ViewMode::Footprint ||
+                                  mode_ == ViewMode::Confidence || mode_ == ViewMode::Path;
+    if (pass) pass->setDiagnostics(needsDiagnostics);
+    FramePipeline& pipeline = activePipeline();
+    pipeline.render(view, frame);
+    if (mode_ == ViewMode::Baseline) main_->render(view, frame);  // keeps streaming and live placement fed
+    if (auto t = main_->latestTimings()) timings_ = t;
+    // The pass's pixel shares of a frame or two back, polled (never waited for).
+    if (pass)
+        if (auto shares = pass->latestPixelShares()) shares_ = *shares;
+    if (recordFile_) recorded_.push_back({camera_.eye, camera_.eye + camera_.forward});
+    ++serial_;
+}
+
+void Viewer::drawView(int x, int y, int width, int height) {
+    FramePipeline& pipeline = activePipeline();
+    ViewInputs in;
+    in.shaded = pipeline.shadedTexture();
+    in.ao = pipeline.aoTexture();
+    if (ProbeProjectionPass* pass = probes(); pass && mode_ != ViewMode::Baseline) {
+        in.diagnostics = pass->diagnosticsTexture();
+    }
+    if (mode_ == ViewMode::Baseline) in.baselineAo = pipeline.aoTexture();
+    in.footprintScale = ssao_.radius / 16.0f;
+    if (mode_ == ViewMode::ReferenceDiff && pathFrame_) {
+        if (const Image* ref = referenceFor(*pathFrame_); ref && ref->width == pipeline.width() &&
+                                                           ref->height == pipeline.height()) {
+            if (referenceTexFrame_ != *pathFrame_) {
+                referenceTex_ = texture2D(GL_R32F, ref->width, ref->height);
+                glTextureSubImage2D(referenceTex_.id(), 0, 0, 0, ref->width, ref->height, GL_RED, GL_FLOAT,
+                                    ref->pixels.data());
+                referenceTexFrame_ = *pathFrame_;
+            }
+            in.reference = referenceTex_.id();
+        }
+    }
+    // Letterbox: keep the render's aspect ratio inside the given rectangle.
+    const float aspect = float(pipeline.width()) / float(pipeline.height());
+    int vw = width, vh = int(std::lround(float(width) / aspect));
+    if (vh > height) vh = height, vw = int(std::lround(float(height) * aspect));
+    modes_->draw(mode_, in, x + (width - vw) / 2, y + (height - vh) / 2, vw, vh);
+}
+
+void Viewer::viewScreenshot(const fs::path& file) {
+    FramePipeline& pipeline = activePipeline();
+    const int w = pipeline.width(), h = pipeline.height();
+    if (file.extension() == ".exr") {
+        if (file.has_parent_path()) fs::create_directories(file.parent_path());
+        writeExr(file, readR32f(pipeline.aoTexture(), w, h));
+        spdlog::info("cubeao-view: wrote {}", file.string());
+        return;
+    }
+    gl::Texture colour = texture2D(GL_RGBA8, w, h);
+    gl::Framebuffer fbo = gl::Framebuffer::create();
+    glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT0, colour.id(), 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+    drawView(0, 0, w, h);
+    const std::vector<float> rgb = readRgb(w, h);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    writeScreenshotPng(file, w, h, rgb);
+}
+
+void Viewer::windowScreenshot(const fs::path& file) {
+    int w = 0, h = 0;
+    window_->framebufferSize(w, h);
+    // Called after the panel is drawn and before the swap: the back buffer holds the whole window.
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    writeScreenshotPng(file, w, h, readRgb(w, h));
+}
+
+void Viewer::save(const fs::path& file) {
+    if (live_) {
+        const std::size_t n = live_->save(file);
+        status_ = "saved " + std::to_string(n) + " probes to " + file.string();
+    } else if (cache_) {
+        fs::copy_file(o_.cache, file, fs::copy_options::overwrite_existing);
+        status_ = "copied the opened cache to " + file.string();
+    } else {
+        status_ = "nothing to save: no probes (turn live placement on)";
+    }
+    spdlog::info("cubeao-view: {}", status_);
+}
+
+void Viewer::startRecording(const fs::path& file) {
+    recordFile_ = file;
+    recorded_.clear();
+    status_ = "recording to " + file.string();
+}
+
+void Viewer::stopRecording() {
+    if (!recordFile_) return;
+    CameraPath p;
+    p.scene = scene_.source;
+    p.up = camera_.up, p.fovYDeg = camera_.fovYDeg, p.nearPlane = camera_.nearPlane;
+    if (path_) p.width = path_->width, p.height = path_->height, p.farPlane = path_->farPlane;
+    p.frames = recorded_;
+    if (recordFile_->has_parent_path()) fs::create_directories(recordFile_->parent_path());
+    writeCameraPath(*recordFile_, p);
+    status_ = "recorded " + std::to_string(recorded_.size()) + " frames to " + recordFile_->string();
+    spdlog::info("cubeao-view: {}", status_);
+    recordFile_.reset();
+}
+
+nlohmann::json Viewer::summary() const {
+    nlohmann::json j = {{"scene", scene_.source},
+                        {"frames", serial_},
+                        {"frame_ms_mean", frameMsMean_},
+                        {"mode", viewModeName(mode_)}};
+    if (ProbeProjectionPass* pass = probes()) {
+        j["probes"] = pass->grid().liveProbes();
+        j["resident"] = pass->residency().stats().resident;
+        j["gpu_bytes"] = pass->gpuBytes();
+        j["pixels"] = {{"uncovered", shares_.uncovered}, {"fallback_probe", shares_.fallbackProbe}};
+    }
+    if (live_) {
+        const placement::LivePlacement::Stats s = live_->stats();
+        j["live"] = {{"placed", s.placed},       {"baked", s.baked},         {"rebaked", s.rebaked},
+                     {"queued", s.queued},       {"coverage", s.coverage},   {"bake_ms_mean", s.bakeMsMean},
+                     {"bake_ms_budget", o_.bakeMsPerFrame}};
+        if (path_) {
+            // The walk's coverage with every probe placed so far (coverage.h's definition, Embree): per
+            // path frame at the coverage count's resolution.
+            const placement::FeedbackSettings fs;
+            double sum = 0.0, lowest = 1.0;
+            for (std::size_t f = 0; f < path_->frames.size(); ++f) {
+                const double c = live_->feedback().frameCoverage(
+                    placement::tracePixels(placementScene_->embree(), PinholeCamera(*path_, f, fs.width, fs.height)));
+                sum += c, lowest = std::min(lowest, c);
+            }
+            j["live"]["walk_coverage_mean"] = sum / double(std::max<std::size_t>(path_->frames.size(), 1));
+            j["live"]["walk_coverage_min"] = lowest;
+        }
+    }
+    return j;
+}
+
+bool Viewer::pressed(int key) {
+    const bool down = glfwGetKey(window_->window(), key) == GLFW_PRESS;
+    const bool was = std::exchange(keyWasDown_[key], down);
+    return down && !was;
+}
+
+fs::path Viewer::defaultSavePath() const {
+    if (!o_.saveTo.empty()) return o_.saveTo;
+    return cache_ ? fs::path(o_.cache).replace_extension(".live.cubeao") : fs::path("live.cubeao");
+}
+
+// Keys: 1–8 view modes, Tab panel, P play/pause the path, [ ] path frames, R record, F12 screenshot,
+// Ctrl+S save, L live placement, Esc quit. Not while ImGui has the keyboard (a text field).
+void Viewer::handleKeys() {
+    if (ImGui::GetIO().WantCaptureKeyboard) return;
+    const std::span<const ViewMode> all = allViewModes();
+    for (std::size_t i = 0; i < all.size() && i < 9; ++i)
+        if (pressed(GLFW_KEY_1 + int(i))) mode_ = all[i];
+    if (pressed(GLFW_KEY_TAB)) showPanel_ = !showPanel_;
+    if (pressed(GLFW_KEY_ESCAPE)) quit_ = true;
+    if (pressed(GLFW_KEY_P) && path_) {
+        if (!pathFrame_) setPathFrame(0);
+        playing_ = !playing_;
+    }
+    if (pressed(GLFW_KEY_RIGHT_BRACKET) && path_) setPathFrame(pathFrame_ ? *pathFrame_ + 1 : 0);
+    if (pressed(GLFW_KEY_LEFT_BRACKET) && path_) setPathFrame(pathFrame_ && *pathFrame_ > 0 ? *pathFrame_ - 1 : 0);
+    if (pressed(GLFW_KEY_R)) {
+        if (recordFile_)
+            stopRecording();
+        else
+            startRecording("walk.json");
+    }
+    if (pressed(GLFW_KEY_F12)) {
+        char name[64];
+        std::snprintf(name, sizeof name, "cubeao-view-%03d.png", screenshots_++);
+        viewScreenshot(name);
+        status_ = std::string("screenshot ") + name;
+    }
+    const bool ctrl = glfwGetKey(window_->window(), GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS ||
+                      glfwGetKey(window_->window(), GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS;
+    if (pressed(GLFW_KEY_S) && ctrl) save(defaultSavePath());
+    if (pressed(GLFW_KEY_L)) {
+        if (liveOn_)
+            liveOn_ = false;
+        else
+            startLive();
+    }
+    const float scroll = ImGui::GetIO().MouseWheel;
+    if (scroll != 0.0f && !ImGui::GetIO().WantCaptureMouse) speed_ *= std::pow(1.25f, scroll);
+}
+
+// A titled separator (ImGui 1.86 has no SeparatorText).
+void section(const char* title) {
+    ImGui::Spacing();
+    ImGui::Separator();
+    ImGui::TextColored(ImVec4(0.55f, 0.75f, 1.0f, 1.0f), "%s", title);
+}
+
+void Viewer::drawPanel() {
+    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowBgAlpha(0.82f);
+    ImGui::Begin("cubeao", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    ImGui::PushItemWidth(170.0f);
+    ImGui::TextDisabled("%s  (%zu triangles)", fs::path(scene_.source).filename().c_str(), scene_.triangleCount());
+
+    // View mode, with its legend.
+    const std::span<const ViewMode> all = allViewModes();
+    if (ImGui::BeginCombo("view", viewModeName(mode_))) {
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            char label[64];
+            std::snprintf(label, sizeof label, "%zu  %s", i + 1, viewModeName(all[i]));
+            if (ImGui::Selectable(label, all[i] == mode_)) mode_ = all[i];
+        }
+        ImGui::EndCombo();
+    }
+    if (mode_ == ViewMode::Baseline && ImGui::BeginCombo("baseline", baseline_.c_str())) {
+        for (const char* b : kBaselines)
+            if (ImGui::Selectable(b, baseline_ == b)) baseline_ = b;
+        ImGui::EndCombo();
+    }
+    ImGui::PushTextWrapPos(340.0f);
+    ImGui::TextDisabled("%s", viewModeLegend(mode_));
+    ImGui::PopTextWrapPos();
+
+    // Timing.
+    section("frame");
+    const FramePipeline& pipeline = activePipeline();
+    ImGui::Text("%.1f ms (%.0f fps) · %d × %d px", frameMs_, frameMs_ > 0.0 ? 1000.0 / frameMs_ : 0.0,
+                pipeline.width(), pipeline.height());
+    if (!frameTimes_.empty()) {
+        std::vector<float> t(frameTimes_.begin(), frameTimes_.end());
+        ImGui::PlotLines("##frames", t.data(), int(t.size()), 0, "frame ms", 0.0f,
+                         std::max(33.0f, *std::max_element(t.begin(), t.end())), ImVec2(250, 36));
+    }
+    if (!fixedSize_) ImGui::SliderFloat("render scale", &o_.scale, 0.1f, 1.0f, "%.2f");
+    if (timings_) {
+        const PassTimings& p = timings_->passes;
+        ImGui::Text("GPU ms  gbuf %.1f · ao %.1f · blur %.1f · comp %.1f", p.gbuffer, p.ao, p.blur, p.composite);
+        if (!main_->timesAreExecution())
+            ImGui::TextDisabled("(software GL: these do not measure execution)");
+    }
+
+    // Probes.
+    if (ProbeProjectionPass* pass = probes()) {
+        section("probes");
+        const ResidencyStats& r = pass->residency().stats();
+        ImGui::Text("%zu resident of %zu · %zu slots · %.1f MB", r.resident, pass->grid().liveProbes(), r.slots,
+                    double(pass->gpuBytes()) / 1048576.0);
+        ImGui::Text("uploads %zu this frame (%.1f KB, %.2f ms)", r.frameUploads, double(r.frameUploadBytes) / 1024.0,
+                    r.frameUploadMs);
+        const double probesShare = std::max(0.0, shares_.geometry - shares_.uncovered - shares_.fallbackProbe);
+        ImGui::Text("pixels  probes %.1f %% · other probe %.1f %% · GTAO %.1f %%", 100.0 * probesShare,
+                    100.0 * shares_.fallbackProbe, 100.0 * shares_.uncovered);
+    }
+
+    // Live placement.
+    section("live placement");
+    bool on = liveOn_;
+    if (ImGui::Checkbox("place probes while walking (L)", &on)) {
+        if (on)
+            startLive();
+        else
+            liveOn_ = false;
+    }
+    if (live_) {
+        const placement::LivePlacement::Stats s = live_->stats();
+        ImGui::ProgressBar(float(s.coverage), ImVec2(170, 0));
+        ImGui::SameLine();
+        ImGui::Text("coverage (target %.0f %%)", 100.0 * o_.coverageTarget);
+        ImGui::Text("placed %zu · baked %zu · re-baked %zu · queued %zu", s.placed, s.baked, s.rebaked, s.queued);
+        ImGui::Text("bake %.1f ms/frame (budget %.1f)", s.bakeMsMean, o_.bakeMsPerFrame);
+    }
+    if (ImGui::Button("save (Ctrl+S)")) save(defaultSavePath());
+
+    // Camera.
+    section("camera");
+    ImGui::Text("eye %.2f %.2f %.2f · %.2f/s", camera_.eye.x, camera_.eye.y, camera_.eye.z, speed_);
+    if (path_) {
+        int f = pathFrame_ ? int(*pathFrame_) : -1;
+        if (ImGui::SliderInt("path frame", &f, 0, int(path_->frames.size()) - 1)) setPathFrame(std::size_t(std::max(f, 0)));
+        if (ImGui::Button(playing_ ? "pause (P)" : "play (P)")) {
+            if (!pathFrame_) setPathFrame(0);
+            playing_ = !playing_;
+        }
+        ImGui::SameLine();
+    }
+    if (ImGui::Button(recordFile_ ? "stop recording (R)" : "record (R)")) {
+        if (recordFile_)
+            stopRecording();
+        else
+            startRecording("walk.json");
+    }
+    if (recordFile_) {
+        ImGui::SameLine();
+        ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "REC %zu", recorded_.size());
+    }
+    ImGui::TextDisabled("WASD QE move · right drag look · wheel speed");
+    ImGui::TextDisabled("1-8 modes · F12 shot · Tab panel · Esc quit");
+    if (!status_.empty()) {
+        ImGui::PushTextWrapPos(340.0f);
+        ImGui::TextWrapped("%s", status_.c_str());
+        ImGui::PopTextWrapPos();
+    }
+    ImGui::PopItemWidth();
+    ImGui::End();
+}
+
+int Viewer::run() {
+    auto last = Clock::now();
+    bool scripted = !script_.empty();
+    while (!window_->shouldClose() && !quit_) {
+        gl::WindowContext::pollEvents();
+        const auto now = Clock::now();
+        const double dt = std::chrono::duration<double>(now - last).count();
+        last = now;
+        const auto frameStart = Clock::now();
+
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        handleKeys();
+        handleInput(std::min(dt, 0.25));
+        if (playing_ && !scripted && path_ && pathFrame_) {
+            if (*pathFrame_ + 1 < path_->frames.size())
+                setPathFrame(*pathFrame_ + 1);
+            else
+                playing_ = false;
+        }
+        renderFrame();
+
+        int fw = 0, fh = 0;
+        window_->framebufferSize(fw, fh);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glViewport(0, 0, fw, fh);
+        glClearColor(0.08f, 0.09f, 0.11f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+        drawView(0, 0, fw, fh);
+        if (showPanel_) drawPanel();
+        ImGui::Render();
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        // Script commands run after the frame is drawn, so screenshots show what was just rendered;
+        // their own time (screenshots, saves) is not the frame's.
+        const int line = scriptPos_ > 0 ? script_[scriptPos_ - 1].line : 0;
+        const auto scriptStart = Clock::now();
+        if (scripted && !stepScript()) quit_ = true;
+        const double scriptMs = msSince(scriptStart);
+
+        window_->swapBuffers();
+
+        frameMs_ = msSince(frameStart) - scriptMs;
+        if (frameLog_.size() < 1000000)
+            frameLog_.push_back({frameMs_, live_ ? live_->stats().bakeMsLastFrame : 0.0, line});
+        frameMsMean_ += (frameMs_ - frameMsMean_) / double(serial_);
+        frameTimes_.push_back(frameMs_);
+        if (frameTimes_.size() > 120) frameTimes_.pop_front();
+    }
+    if (live_) spdlog::info("cubeao-view: live placement: {} probes placed, {} baked, {} re-baked",
+                            live_->stats().placed, live_->stats().baked, live_->stats().rebaked);
+    if (!o_.statsJson.empty()) {
+        std::ofstream(o_.statsJson) << summary().dump(2) << "\n";
+    }
+    return 0;
+}
+
+}  // namespace
+
+int runViewer(const ViewerOptions& options) {
+    Viewer viewer(options);
+    return viewer.run();
+}
+
+}  // namespace cubeao::viewer
