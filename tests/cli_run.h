@@ -16,9 +16,8 @@ struct CliRun {
     std::string out;
 };
 
-// Runs the binary; `out` is its stdout, followed by its stderr when withStderr.
-inline CliRun runCli(const std::string& args, bool withStderr = false) {
-    const std::string cmd = std::string(CUBEAO_BINARY) + " " + args + (withStderr ? " 2>&1" : " 2>/dev/null");
+// Runs a shell command line; `out` is what it writes to stdout.
+inline CliRun runCommand(const std::string& cmd) {
     CliRun r;
     FILE* p = popen(cmd.c_str(), "r");
     if (!p) return r;
@@ -27,6 +26,11 @@ inline CliRun runCli(const std::string& args, bool withStderr = false) {
     const int status = pclose(p);
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return r;
+}
+
+// Runs the binary; `out` is its stdout, followed by its stderr when withStderr.
+inline CliRun runCli(const std::string& args, bool withStderr = false) {
+    return runCommand(std::string(CUBEAO_BINARY) + " " + args + (withStderr ? " 2>&1" : " 2>/dev/null"));
 }
 
 inline nlohmann::json lastLine(const std::string& out) {

@@ -3,18 +3,17 @@
 // The window tests skip with the reason when there is no X display.
 #include <gtest/gtest.h>
 
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <sys/wait.h>
 
 #include <nlohmann/json.hpp>
 
 #include "bake_test_settings.h"
+#include "cli_run.h"
 #include "cubeao-view/script.h"
 #include "cubeao-view/view_modes.h"
 #include "cubeao/cache/cache_file.h"
@@ -90,21 +89,10 @@ TEST(ViewerScript, ViewModeNamesRoundTrip) {
 
 // ---- the program in a window ------------------------------------------------------------------
 
-struct ProgramRun {
-    int code = -1;
-    std::string out;  // stdout and stderr
-};
+using ProgramRun = test::CliRun;
 
-ProgramRun runProgram(const std::string& command) {
-    ProgramRun r;
-    FILE* p = popen((command + " 2>&1").c_str(), "r");
-    if (!p) return r;
-    std::array<char, 4096> buf{};
-    while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.out.append(buf.data(), n);
-    const int status = pclose(p);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+// A command line with its stderr on stdout (the viewer logs through spdlog to stderr).
+ProgramRun runProgram(const std::string& command) { return test::runCommand(command + " 2>&1"); }
 
 class ViewerWindow : public ::testing::Test {
 protected:
@@ -207,6 +195,7 @@ TEST_F(ViewerWindow, LivePlacementFromNoProbes) {
     EXPECT_EQ(live["baked"].get<int>(), live["placed"].get<int>());
     EXPECT_EQ(s["probes"].get<int>(), live["placed"].get<int>());
     EXPECT_GE(live["walk_coverage_mean"].get<double>(), 0.9) << s.dump(2);
+    EXPECT_EQ(s["frame_log"]["frames"].size(), s["frames"].get<std::size_t>());
 
     CacheReader reader(saved);
     EXPECT_EQ(reader.probeCount(), live["placed"].get<std::size_t>());

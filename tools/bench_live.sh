@@ -11,7 +11,7 @@
 # Usage: bash tools/bench_live.sh [sibenik|fzk-haus]
 # Environment: CUBEAO_BIN, CUBEAO_VIEW_BIN (build/cubeao, build/cubeao-view), CUBEAO_LIVE_SIZE (160x90),
 # CUBEAO_LIVE_RES (128), CUBEAO_LIVE_BAKE_MS (8), CUBEAO_LIVE_TARGET (0.95), CUBEAO_LIVE_SPP (reference
-# rays, 256). The reference is reused from out/place-walks/NAME/reference (tools/bench_place.sh) when
+# rays, 256), CUBEAO_LIVE_TAG (suffix of the output directory). The reference is reused from out/place-walks/NAME/reference (tools/bench_place.sh) when
 # its size matches, else traced here.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,7 +29,7 @@ h=${size#*x}
 walk_scene "$name" bench_live.sh
 camera=$walk
 frames=$(python3 -c "import json,sys; print(len(json.load(open(sys.argv[1]))['frames']))" "$camera")
-out=out/bench-live/$name
+out=out/bench-live/$name${CUBEAO_LIVE_TAG:+-$CUBEAO_LIVE_TAG}
 mkdir -p "$out"
 xrun=()
 [ -z "${DISPLAY:-}" ] && xrun=(xvfb-run -a -s "-screen 0 1280x800x24")

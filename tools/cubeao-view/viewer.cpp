@@ -20,6 +20,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <glm/vec2.hpp>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
@@ -175,6 +176,8 @@ private:
     bool playing_ = false;
     std::uint32_t serial_ = 0;     // frames rendered
     int idleFrames_ = 0;           // frames without input
+    glm::dvec2 cursor_{0.0};       // the mouse at the last frame
+    bool dragging_ = false;        // a look button was down at the last frame
     int forcedIdle_ = 0;           // script `idle N`
     bool fixedSize_ = false;
     int fixedW_ = 0, fixedH_ = 0;
@@ -553,18 +556,16 @@ void Viewer::handleInput(double dt) {
             moved = true;
         }
     }
-    static double lastX = 0.0, lastY = 0.0;
-    static bool dragging = false;
     double x = 0.0, y = 0.0;
     glfwGetCursorPos(w, &x, &y);
     const bool look = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
                       (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS && !io.WantCaptureMouse);
-    if (look && dragging && (x != lastX || y != lastY)) {
-        camera_.turn(float(lastX - x) * 0.15f, float(lastY - y) * 0.15f);
+    if (look && dragging_ && (x != cursor_.x || y != cursor_.y)) {
+        camera_.turn(float(cursor_.x - x) * 0.15f, float(cursor_.y - y) * 0.15f);  // 0.15° a pixel
         moved = true;
     }
-    dragging = look;
-    lastX = x, lastY = y;
+    dragging_ = look;
+    cursor_ = glm::dvec2(x, y);
     if (moved) {
         pathFrame_.reset();
         playing_ = false;
@@ -722,6 +723,9 @@ nlohmann::json Viewer::summary() const {
             j["live"]["walk_coverage_min"] = lowest;
         }
     }
+    nlohmann::json log = nlohmann::json::array();
+    for (const FrameRecord& f : frameLog_) log.push_back({f.ms, f.bakeMs, f.scriptLine});
+    j["frame_log"] = {{"columns", {"ms", "bake_ms", "script_line"}}, {"frames", log}};
     return j;
 }
 
