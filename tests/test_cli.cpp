@@ -3,13 +3,20 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <thread>
 #include <vector>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -363,6 +370,95 @@ TEST(CliCache, BenchDepthAndBenchCacheReport) {
     EXPECT_EQ(CacheReader(cache).probeCount(), 3u);
     EXPECT_GE(k["cold"]["load_ms"].get<double>(), 0.0);
     EXPECT_EQ(k["file_bytes"].get<std::uint64_t>(), fs::file_size(cache));
+}
+
+// ---- Counts that lie: every file of Debian's assimp-testmodels (issue 15) -------------------------
+
+// `cubeao info FILE` in child processes with an address-space limit, `parallel` at a time, each killed
+// after `timeoutS`: how each ended, its wall time and its peak resident memory (wait4's rusage).
+struct InfoRun {
+    bool exited = false;
+    int code = -1;    // exit code when exited
+    int signal = 0;   // the signal that ended it otherwise (SIGKILL after the timeout)
+    bool timedOut = false;
+    double seconds = 0.0;
+    double peakMib = 0.0;
+};
+
+std::vector<InfoRun> runInfoLimited(const std::vector<fs::path>& files, std::size_t addressSpaceBytes,
+                                    double timeoutS, std::size_t parallel) {
+    using Clock = std::chrono::steady_clock;
+    std::vector<InfoRun> runs(files.size());
+    std::map<pid_t, std::pair<std::size_t, Clock::time_point>> running;  // pid → file, start
+    std::size_t next = 0;
+    while (next < files.size() || !running.empty()) {
+        while (next < files.size() && running.size() < parallel) {
+            const pid_t pid = fork();
+            if (pid == 0) {
+                const rlimit limit{addressSpaceBytes, addressSpaceBytes};
+                setrlimit(RLIMIT_AS, &limit);
+                const int devNull = open("/dev/null", O_WRONLY);
+                dup2(devNull, 1);
+                dup2(devNull, 2);
+                execl(CUBEAO_BINARY, CUBEAO_BINARY, "info", files[next].c_str(), static_cast<char*>(nullptr));
+                _exit(127);
+            }
+            running[pid] = {next++, Clock::now()};
+        }
+        int status = 0;
+        rusage usage{};
+        const pid_t done = wait4(-1, &status, WNOHANG, &usage);
+        if (done > 0 && running.count(done)) {
+            const auto [i, start] = running[done];
+            running.erase(done);
+            InfoRun& r = runs[i];
+            r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+            r.peakMib = double(usage.ru_maxrss) / 1024.0;
+            r.exited = WIFEXITED(status);
+            if (r.exited) r.code = WEXITSTATUS(status);
+            if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+            continue;
+        }
+        for (auto& [pid, job] : running)
+            if (!runs[job.first].timedOut &&
+                std::chrono::duration<double>(Clock::now() - job.second).count() > timeoutS) {
+                kill(pid, SIGKILL);
+                runs[job.first].timedOut = true;
+            }
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return runs;
+}
+
+// Every file the package ships, valid or not, ends `info` with exit 0 (a scene) or 1 (refused with a
+// message) within kSeconds, never by a signal, and never above kPeakMib resident (the address space is
+// capped at 4 GiB besides, so a runaway allocation fails instead of swapping the machine).
+TEST(CliRobustness, InfoOnEveryAssimpTestModelEndsCleanly) {
+    const fs::path root = "/usr/share/assimp/models";
+    if (!fs::exists(root)) GTEST_SKIP() << root << " is absent (apt-get install assimp-testmodels)";
+    constexpr double kSeconds = 30.0, kPeakMib = 1024.0;
+    std::vector<fs::path> files;
+    for (const auto& e : fs::recursive_directory_iterator(root))
+        if (e.is_regular_file()) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    ASSERT_GT(files.size(), 400u);
+    std::size_t loaded = 0, refused = 0;
+    double slowest = 0.0, largest = 0.0;
+    fs::path slowestFile, largestFile;
+    const std::vector<InfoRun> runs = runInfoLimited(files, std::size_t(4) << 30, kSeconds, 3);
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        const InfoRun& r = runs[i];
+        const fs::path& f = files[i];
+        EXPECT_TRUE(r.exited && (r.code == 0 || r.code == 1))
+            << f << ": " << (r.timedOut ? "timed out" : r.exited ? "exit " + std::to_string(r.code)
+                                                                  : "signal " + std::to_string(r.signal));
+        EXPECT_LE(r.peakMib, kPeakMib) << f;
+        (r.exited && r.code == 0 ? loaded : refused) += 1;
+        if (r.seconds > slowest) slowest = r.seconds, slowestFile = f;
+        if (r.peakMib > largest) largest = r.peakMib, largestFile = f;
+    }
+    std::printf("[ info ] %zu files: %zu loaded, %zu refused; slowest %.2f s (%s), largest %.0f MiB (%s)\n",
+                files.size(), loaded, refused, slowest, slowestFile.c_str(), largest, largestFile.c_str());
 }
 
 }  // namespace

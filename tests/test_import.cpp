@@ -309,6 +309,58 @@ TEST(ImportErrors, OffFaceIndexOutOfRange) {
     EXPECT_TRUE(contains(msg, "refers to vertex 7 of 4")) << msg;
 }
 
+// Counts that lie (issue 15): a header claiming more elements than the file can hold is refused before
+// the reader loops over the claim (OpenMesh adds a vertex per claimed one, stream failed or not), with
+// the claim and the most the file could hold in the message. Files whose counts fit still load.
+TEST(ImportErrors, HeaderCountsTheFileCannotHoldAreRefused) {
+    TempDir dir;
+    const std::string cube8 =
+        "-0.5 -0.5 0.5\n0.5 -0.5 0.5\n-0.5 0.5 0.5\n0.5 0.5 0.5\n-0.5 0.5 -0.5\n0.5 0.5 -0.5\n-0.5 -0.5 -0.5\n"
+        "0.5 -0.5 -0.5\n4 0 1 3 2\n";
+    struct Case {
+        const char* file;
+        std::string text;
+        const char* claim;
+    };
+    std::string stl(80, ' ');
+    const std::uint32_t triangles = 1000000000u;
+    stl.append(reinterpret_cast<const char*>(&triangles), 4);
+    stl.append(50, '\0');
+    const Case cases[] = {
+        // assimp-testmodels' invalid/OutOfMemory.off, which grew `cubeao info` past 3 GB.
+        {"lie.off", "OFF\n353535235358 1 0\n" + cube8, "claims 353535235358 vertex"},
+        {"lie-faces.off", "OFF 8 4000000000 0\n" + cube8, "claims 4000000000 face"},
+        {"lie.ply",
+         "ply\nformat ascii 1.0\nelement vertex 1000000000000\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n",
+         "claims 1000000000000 vertex"},
+        {"lie-binary.ply",
+         "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 90000000\nproperty list uchar int vertex_indices\nend_header\n" +
+             std::string(36 + 13, '\0'),
+         "claims 90000000 face"},
+        {"lie.stl", stl, "claims 1000000000 triangle"},
+    };
+    for (const Case& c : cases) {
+        const std::string path = dir.write(c.file, c.text);
+        const std::string msg = errorMessage([&] { loadScene(path); });
+        EXPECT_TRUE(contains(msg, path)) << msg;
+        EXPECT_TRUE(contains(msg, c.claim)) << c.file << ": " << msg;
+        EXPECT_TRUE(contains(msg, "can hold at most")) << msg;
+    }
+    // The same cube with a true count loads.
+    const Scene ok = loadScene(dir.write("true.off", "OFF\n8 1 0\n" + cube8));
+    EXPECT_EQ(ok.triangleCount(), 2u);
+}
+
+// The file that showed it, as Debian ships it.
+TEST(ImportErrors, AssimpOutOfMemoryOffIsRefused) {
+    const fs::path path = "/usr/share/assimp/models/invalid/OutOfMemory.off";
+    if (!fs::exists(path)) GTEST_SKIP() << path << " is absent (apt-get install assimp-testmodels)";
+    const std::string msg = errorMessage([&] { loadScene(path.string()); });
+    EXPECT_TRUE(contains(msg, "claims 353535235358 vertex elements, but the 309-byte file")) << msg;
+}
+
 TEST(ImportErrors, NonFiniteCoordinatesNeverLoadAsNonFinite) {
     // OpenMesh's readers parse with iostreams, which reject "nan", "inf" and 1e999: the OBJ reader
     // skips the whole `v` line, the others lose track of the stream. Whatever they do, loadScene must

@@ -20,6 +20,7 @@
 
 #include "cubeao/core/error.h"
 #include "cubeao/scene/builtin.h"
+#include "cubeao/scene/header_counts.h"
 #include "cubeao/scene/repair.h"
 #include "cubeao/scene/soup_importer.h"
 
@@ -81,6 +82,16 @@ std::size_t scanTextMesh(const fs::path& path, const std::string& ext) {
 // OpenMesh's readers (OBJ/PLY/OFF/STL) into a triangle soup. Returns whether the file carried normals.
 bool readWithOpenMesh(const fs::path& path, Scene& scene) {
     const std::string ext = lowerExtension(path);
+    // A header that claims more elements than the file can hold would make the reader loop (and add
+    // vertices) that many times: refused before it starts (header_counts.h).
+    if (const ClaimedCounts lie = impossibleHeaderCount(path, ext); !lie.element.empty()) {
+        std::ostringstream m;
+        m.precision(15);
+        m << path.string() << ": the header claims " << lie.claimed << " " << lie.element << " elements, but the "
+          << fs::file_size(path) << "-byte file can hold at most " << (unsigned long long)lie.mostPossible
+          << " (truncated or corrupt)";
+        throw Error(m.str());
+    }
     const std::size_t objVertexLines = isTextMesh(path, ext) ? scanTextMesh(path, ext) : 0;
     SoupImporter soup;
     OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexNormal;
