@@ -347,6 +347,11 @@ TEST(FrameRange, ClampsBeyondTheEnds) {
     expectRange("-100:3", 12, 0, 3);
 }
 
+// Found by tests/fuzz/fuzz_ranges.cpp: with no frames at all, "" (every frame) was the empty range 0:0.
+TEST(FrameRange, NoFramesIsUsageError) {
+    for (const char* text : {"", "0:", ":"}) EXPECT_THROW(parseFrameRange(text, 0), UsageError) << '"' << text << '"';
+}
+
 TEST(FrameRange, MalformedOrEmptyIsUsageError) {
     for (const char* text : {"7:5", "abc", "1:2:3", "5", "3:3", "12:", "20:30", "a:3", "3:b", "1.5:3", ":-12"}) {
         try {

@@ -353,6 +353,37 @@ TEST(ImportErrors, HeaderCountsTheFileCannotHoldAreRefused) {
     EXPECT_EQ(ok.triangleCount(), 2u);
 }
 
+// Found by tests/fuzz/fuzz_mesh.cpp: a PLY header with a property before any element ("element"
+// misspelt) crashed OpenMesh's reader (SIGSEGV in _PLYReader_::can_u_read); refused with its line.
+TEST(ImportErrors, PlyHeaderOpenMeshWouldCrashOnIsRefused) {
+    TempDir dir;
+    const std::string path = dir.write(
+        "misspelt.ply",
+        "ply\nformat ascii 1.0\neleeent vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+    const std::string msg = errorMessage([&] { loadScene(path); });
+    EXPECT_TRUE(contains(msg, "PLY header line 3: unknown keyword \"eleeent\"")) << msg;
+    const std::string orphan =
+        dir.write("orphan.ply", "ply\nformat ascii 1.0\nproperty float x\nelement vertex 1\nend_header\n0\n");
+    EXPECT_TRUE(contains(errorMessage([&] { loadScene(orphan); }), "line 3: a property before any element"));
+}
+
+// Found by tests/fuzz/fuzz_mesh.cpp: an OBJ face corner with no vertex index aborted the process in
+// OpenMesh's reader (an assertion Debian builds keep); refused with its line.
+TEST(ImportErrors, ObjFaceCornerWithoutVertexIsRefused) {
+    TempDir dir;
+    const std::string path = dir.write("corner.obj", "v 5 0 0\nv 1 0 0\nv 1 1 0\n f /1/1 2//1 3//1\n");
+    const std::string msg = errorMessage([&] { loadScene(path); });
+    EXPECT_TRUE(contains(msg, ":4: face corner '/1/1' has no vertex index")) << msg;
+}
+
+// Found by tests/fuzz/fuzz_mesh.cpp: "OFF" with no counts made OpenMesh's reader allocate without bound.
+TEST(ImportErrors, OffWithoutCountsIsRefused) {
+    TempDir dir;
+    const std::string msg = errorMessage([&] { loadScene(dir.write("alone.off", "OFF")); });
+    EXPECT_TRUE(contains(msg, "expected \"VERTICES FACES EDGES\"")) << msg;
+}
+
 // The file that showed it, as Debian ships it.
 TEST(ImportErrors, AssimpOutOfMemoryOffIsRefused) {
     const fs::path path = "/usr/share/assimp/models/invalid/OutOfMemory.off";

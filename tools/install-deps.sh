@@ -13,6 +13,7 @@ packages=(
   libopenimageio-dev openimageio-tools   # OIIO's CMake config insists on its tools being installed
   libcli11-dev nlohmann-json3-dev libxxhash-dev libspdlog-dev libfmt-dev
   libgtest-dev libsquish-dev                                        # libsquish: BC5 cross-check in tests/test_bc.cpp
+  clang libclang-rt-14-dev                                          # libFuzzer targets (tests/fuzz, tools/fuzz.sh)
 )
 
 missing=()

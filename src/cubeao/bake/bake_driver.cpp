@@ -24,23 +24,6 @@ void accumulate(VerifyResult& sum, const VerifyResult& v) {
 
 }  // namespace
 
-BakeShard parseBakeShard(const std::string& text) {
-    if (text.empty()) return {};
-    const auto slash = text.find('/');
-    try {
-        if (slash != std::string::npos) {
-            std::size_t used = 0;
-            const long i = std::stol(text.substr(0, slash), &used);
-            const bool wholeI = used == slash;
-            const long n = std::stol(text.substr(slash + 1), &used);
-            if (wholeI && used == text.size() - slash - 1 && n >= 1 && i >= 0 && i < n)
-                return {std::size_t(i), std::size_t(n)};
-        }
-    } catch (const std::exception&) {
-    }
-    throw UsageError("--shard \"" + text + "\": expected I/N with 0 <= I < N");
-}
-
 // ---- ProbeBaker -----------------------------------------------------------------------------------
 
 ProbeBaker::ProbeBaker(const Scene& scene, const BakeSettings& settings, ProbeBakerOptions options)

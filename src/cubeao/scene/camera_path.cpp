@@ -109,6 +109,7 @@ FrameRange parseFrameRange(const std::string& text, std::size_t count) {
         if (v < 0) v += n;
         return std::clamp(v, 0LL, n);
     };
+    if (count == 0) throw UsageError("--frames \"" + text + "\": the path has no frames");
     if (text.empty()) return {0, count};
     const auto colon = text.find(':');
     if (colon == std::string::npos) throw UsageError("--frames \"" + text + "\": expected A:B (half-open, like 0:12)");

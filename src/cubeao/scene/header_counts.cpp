@@ -1,6 +1,7 @@
 #include "cubeao/scene/header_counts.h"
 
 #include <cctype>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -24,7 +25,7 @@ ClaimedCounts firstImpossible(const std::vector<Element>& elements, long double 
     for (const Element& e : elements) {
         if (e.minBytes <= 0) continue;
         const long double room = body > used ? body - used : 0;
-        if (e.count * e.minBytes > room) return {e.name, e.count, room / e.minBytes};
+        if (e.count * e.minBytes > room) return {e.name, e.count, room / e.minBytes, {}};
         used += e.count * e.minBytes;
     }
     return {};
@@ -39,6 +40,52 @@ bool parseCount(const std::string& word, long double& out) {
     return true;
 }
 
+// The body of a text OFF file: `vertices` lines of at least three numbers, then `faces` lines "K i1 .. iK"
+// (colours may follow). OpenMesh's reader trusts both: a face whose K it cannot read makes it reserve
+// without bound (found by tests/fuzz/fuzz_mesh.cpp), so a body that does not match is refused first.
+ClaimedCounts offTextBody(std::istream& in, std::size_t vertices, std::size_t faces) {
+    ClaimedCounts bad;
+    std::string line;
+    std::size_t seen = 0;
+    const auto isNumber = [](const std::string& t, bool whole) {
+        if (t.empty()) return false;
+        char* end = nullptr;
+        if (whole) {
+            (void)std::strtoll(t.c_str(), &end, 10);
+        } else {
+            (void)std::strtod(t.c_str(), &end);
+        }
+        return end && *end == '\0' && end != t.c_str();
+    };
+    while (seen < vertices + faces && std::getline(in, line)) {
+        std::istringstream words(line);
+        std::vector<std::string> w;
+        for (std::string t; words >> t;) w.push_back(t);
+        if (w.empty() || w[0][0] == '#') continue;
+        if (seen < vertices) {
+            if (w.size() < 3 || !isNumber(w[0], false) || !isNumber(w[1], false) || !isNumber(w[2], false)) {
+                bad.malformed = "OFF vertex " + std::to_string(seen) + ": expected three numbers";
+                return bad;
+            }
+        } else {
+            const long long k = isNumber(w[0], true) ? std::strtoll(w[0].c_str(), nullptr, 10) : -1;
+            bool ok = k >= 1 && std::size_t(k) < w.size();
+            for (long long i = 1; ok && i <= k; ++i) ok = isNumber(w[std::size_t(i)], true);
+            if (!ok) {
+                bad.malformed = "OFF face " + std::to_string(seen - vertices) + ": expected \"K i1 .. iK\"";
+                return bad;
+            }
+        }
+        ++seen;
+    }
+    if (seen < vertices + faces) {
+        bad.malformed = "OFF: the header claims " + std::to_string(vertices) + " vertices and " +
+                        std::to_string(faces) + " faces, the file ends after " + std::to_string(seen) + " of them";
+        return bad;
+    }
+    return {};
+}
+
 // OFF: "[ST][C][N][4][n]OFF [BINARY]", then "vertices faces edges" (text) or three int32 (binary).
 // A text vertex takes at least "0 0 0\n" (6 bytes), a face "0\n" (2); binary 12 and 4.
 ClaimedCounts offClaims(std::ifstream& in, long double size) {
@@ -48,17 +95,29 @@ ClaimedCounts offClaims(std::ifstream& in, long double size) {
         const auto first = line.find_first_not_of(" \t\r");
         if (first != std::string::npos && line[first] != '#') break;
     }
-    if (line.find("OFF") == std::string::npos) return {};
+    ClaimedCounts bad;
+    std::istringstream keywordWords(line);
+    std::string keyword;
+    keywordWords >> keyword;
+    const std::size_t off = keyword.rfind("OFF");
+    if (off == std::string::npos || off + 3 != keyword.size() ||
+        keyword.substr(0, off).find_first_not_of("STCN4n") != std::string::npos) {
+        bad.malformed = "OFF header: expected the keyword [ST][C][N][4][n]OFF on its first line";
+        return bad;
+    }
     const bool binary = line.find("BINARY") != std::string::npos;
     long double vertices = 0, faces = 0;
     if (binary) {
         std::int32_t counts[3] = {0, 0, 0};
         in.read(reinterpret_cast<char*>(counts), sizeof counts);
-        if (in.gcount() != std::streamsize(sizeof counts) || counts[0] < 0 || counts[1] < 0) return {};
+        if (in.gcount() != std::streamsize(sizeof counts) || counts[0] < 0 || counts[1] < 0) {
+            bad.malformed = "OFF header: no vertex and face counts after the keyword";
+            return bad;
+        }
         vertices = counts[0], faces = counts[1];
     } else {
         // The counts may follow the keyword on its line ("OFF 8 6 0") or stand on the next one.
-        std::istringstream rest(line.substr(line.find("OFF") + 3));
+        std::istringstream rest(line.substr(line.find(keyword) + keyword.size()));
         std::string a, b;
         rest >> a >> b;
         if (a.empty()) {
@@ -69,12 +128,20 @@ ClaimedCounts offClaims(std::ifstream& in, long double size) {
             std::istringstream counts(line);
             counts >> a >> b;
         }
-        if (!parseCount(a, vertices) || !parseCount(b, faces)) return {};
+        // Without them OpenMesh's reader runs on uninitialised counts (found by tests/fuzz/fuzz_mesh.cpp:
+        // "OFF" alone made it allocate without bound).
+        if (!parseCount(a, vertices) || !parseCount(b, faces)) {
+            bad.malformed = "OFF header: expected \"VERTICES FACES EDGES\" after the keyword";
+            return bad;
+        }
     }
     const std::streamoff header = in.tellg();
     if (header < 0) return {};
-    return firstImpossible({{"vertex", vertices, binary ? 12.0L : 6.0L}, {"face", faces, binary ? 4.0L : 2.0L}},
-                           size - (long double)header);
+    ClaimedCounts lie = firstImpossible({{"vertex", vertices, binary ? 12.0L : 6.0L},
+                                         {"face", faces, binary ? 4.0L : 2.0L}},
+                                        size - (long double)header);
+    if (!lie.element.empty() || binary) return lie;
+    return offTextBody(in, std::size_t(vertices), std::size_t(faces));
 }
 
 int plyScalarBytes(const std::string& type) {
@@ -91,45 +158,58 @@ int plyScalarBytes(const std::string& type) {
 
 // PLY: "element NAME N" followed by its properties, up to "end_header". Per item an ASCII body takes at
 // least two bytes a property (a digit and a separator; a list at least its count), a binary one the
-// properties' sizes (a list at least its count's size).
+// properties' sizes (a list at least its count's size). The header is checked line by line as well:
+// OpenMesh's reader crashes on a property before any element and loops forever on some malformed
+// headers (both found by tests/fuzz/fuzz_mesh.cpp), so only a well-formed header reaches it.
 ClaimedCounts plyClaims(std::ifstream& in, long double size) {
     std::string line;
     if (!std::getline(in, line) || line.rfind("ply", 0) != 0) return {};
-    bool ascii = true;
+    bool ascii = true, haveFormat = false;
     std::vector<Element> elements;
-    while (std::getline(in, line)) {
+    int lineNo = 2;
+    const auto malformed = [&](const std::string& what) {
+        ClaimedCounts c;
+        c.malformed = "PLY header line " + std::to_string(lineNo) + ": " + what;
+        return c;
+    };
+    constexpr int kMaxHeaderLines = 10000;
+    for (; std::getline(in, line) && lineNo < kMaxHeaderLines; ++lineNo) {
         std::istringstream words(line);
-        std::string keyword;
-        words >> keyword;
+        std::vector<std::string> w;
+        for (std::string word; words >> word;) w.push_back(word);
+        if (w.empty()) continue;
+        const std::string& keyword = w[0];
+        if (keyword == "comment" || keyword == "obj_info") continue;
         if (keyword == "end_header") {
+            if (!haveFormat) return malformed("end_header before a format line");
             const std::streamoff header = in.tellg();
             if (header < 0) return {};
             return firstImpossible(elements, size - (long double)header);
         }
         if (keyword == "format") {
-            std::string format;
-            words >> format;
-            ascii = format == "ascii";
+            if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian") ||
+                w[2] != "1.0")
+                return malformed("expected \"format ascii|binary_little_endian|binary_big_endian 1.0\"");
+            ascii = w[1] == "ascii";
+            haveFormat = true;
         } else if (keyword == "element") {
-            std::string name, count;
-            words >> name >> count;
             Element e;
-            e.name = name;
-            if (!parseCount(count, e.count)) return {};
+            if (w.size() != 3 || !parseCount(w[2], e.count)) return malformed("expected \"element NAME COUNT\"");
+            e.name = w[1];
             elements.push_back(e);
-        } else if (keyword == "property" && !elements.empty()) {
-            std::string type;
-            words >> type;
-            if (type == "list") {
-                std::string countType;
-                words >> countType;
-                elements.back().minBytes += ascii ? 2 : plyScalarBytes(countType);
-            } else {
-                elements.back().minBytes += ascii ? 2 : plyScalarBytes(type);
-            }
+        } else if (keyword == "property") {
+            if (elements.empty()) return malformed("a property before any element");
+            if (w.size() == 5 && w[1] == "list" && plyScalarBytes(w[2]) && plyScalarBytes(w[3]))
+                elements.back().minBytes += ascii ? 2 : plyScalarBytes(w[2]);
+            else if (w.size() == 3 && plyScalarBytes(w[1]))
+                elements.back().minBytes += ascii ? 2 : plyScalarBytes(w[1]);
+            else
+                return malformed("expected \"property TYPE NAME\" or \"property list COUNT_TYPE TYPE NAME\"");
+        } else {
+            return malformed("unknown keyword \"" + keyword.substr(0, 40) + "\"");
         }
     }
-    return {};  // no end_header: the reader reports it
+    return malformed("no end_header");
 }
 
 // Binary STL: an 80-byte header, a uint32 triangle count, 50 bytes a triangle. ASCII STL has no count.

@@ -17,6 +17,10 @@ struct ClaimedCounts {
     std::string element;           // "vertex", "face", "triangle"
     long double claimed = 0;       // what the header says
     long double mostPossible = 0;  // what the file's size allows
+    // A PLY header OpenMesh's reader would crash on (found by tests/fuzz/fuzz_mesh.cpp: a "property"
+    // line before any "element" line makes _PLYReader_::can_u_read read through an empty list): what
+    // is wrong, with its line. Empty when the header is sound.
+    std::string malformed;
 };
 
 // The first claim of `path` (extension `ext`, lower case, with the dot: .off, .ply, .stl) that its

@@ -64,6 +64,20 @@ std::size_t scanTextMesh(const fs::path& path, const std::string& ext) {
     while (std::getline(in, line)) {
         ++lineNo;
         if (ext == ".obj" && line.rfind("v ", 0) == 0) ++vertexLines;
+        // A face corner without a vertex index ("f /1/1 ...") trips an assertion in OpenMesh's OBJ
+        // reader, which Debian builds with assertions on: an abort (found by tests/fuzz/fuzz_mesh.cpp).
+        if (ext == ".obj") {
+            std::istringstream corners(line);
+            std::string keyword, corner;
+            corners >> keyword;
+            if (keyword == "f")
+                while (corners >> corner) {
+                    const std::size_t digits = corner.find_first_not_of("-+0123456789");
+                    if (digits == 0 || corner.substr(0, digits).find_first_of("0123456789") == std::string::npos)
+                        throw Error(path.string() + ":" + std::to_string(lineNo) + ": face corner '" + corner +
+                                    "' has no vertex index");
+                }
+        }
         std::istringstream words(line);
         while (words >> token) {
             const char c = char(std::tolower(static_cast<unsigned char>(token[0])));
@@ -84,7 +98,9 @@ bool readWithOpenMesh(const fs::path& path, Scene& scene) {
     const std::string ext = lowerExtension(path);
     // A header that claims more elements than the file can hold would make the reader loop (and add
     // vertices) that many times: refused before it starts (header_counts.h).
-    if (const ClaimedCounts lie = impossibleHeaderCount(path, ext); !lie.element.empty()) {
+    const ClaimedCounts lie = impossibleHeaderCount(path, ext);
+    if (!lie.malformed.empty()) throw Error(path.string() + ": " + lie.malformed);
+    if (!lie.element.empty()) {
         std::ostringstream m;
         m.precision(15);
         m << path.string() << ": the header claims " << lie.claimed << " " << lie.element << " elements, but the "
