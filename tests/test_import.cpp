@@ -348,6 +348,9 @@ TEST(ImportErrors, HeaderCountsTheFileCannotHoldAreRefused) {
         EXPECT_TRUE(contains(msg, c.claim)) << c.file << ": " << msg;
         EXPECT_TRUE(contains(msg, "can hold at most")) << msg;
     }
+    // A header that ends the file (no newline after the counts) is checked too (found by fuzz_mesh).
+    const std::string eof = dir.write("eof.off", "OFF 85 5842 ");
+    EXPECT_TRUE(contains(errorMessage([&] { loadScene(eof); }), "claims 85 vertex elements, but the 12-byte file"));
     // The same cube with a true count loads.
     const Scene ok = loadScene(dir.write("true.off", "OFF\n8 1 0\n" + cube8));
     EXPECT_EQ(ok.triangleCount(), 2u);

@@ -31,6 +31,17 @@ ClaimedCounts firstImpossible(const std::vector<Element>& elements, long double 
     return {};
 }
 
+// Where the body starts: the stream's position, or the file's end when the header's last line ended
+// the file (getline then leaves eof set and tellg would say -1: found by tests/fuzz/fuzz_mesh.cpp,
+// "OFF 85 5842" with nothing after it slipped past the size check).
+std::streamoff bodyStart(std::istream& in) {
+    if (in.eof()) {
+        in.clear();
+        in.seekg(0, std::ios::end);
+    }
+    return in.tellg();
+}
+
 // Reads a whole number the way a header writes it; false for anything else (left to the reader).
 bool parseCount(const std::string& word, long double& out) {
     if (word.empty() || word.size() > 30) return false;
@@ -135,7 +146,7 @@ ClaimedCounts offClaims(std::ifstream& in, long double size) {
             return bad;
         }
     }
-    const std::streamoff header = in.tellg();
+    const std::streamoff header = bodyStart(in);
     if (header < 0) return {};
     ClaimedCounts lie = firstImpossible({{"vertex", vertices, binary ? 12.0L : 6.0L},
                                          {"face", faces, binary ? 4.0L : 2.0L}},
@@ -182,7 +193,7 @@ ClaimedCounts plyClaims(std::ifstream& in, long double size) {
         if (keyword == "comment" || keyword == "obj_info") continue;
         if (keyword == "end_header") {
             if (!haveFormat) return malformed("end_header before a format line");
-            const std::streamoff header = in.tellg();
+            const std::streamoff header = bodyStart(in);
             if (header < 0) return {};
             return firstImpossible(elements, size - (long double)header);
         }
