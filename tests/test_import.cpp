@@ -385,6 +385,8 @@ TEST(ImportErrors, OffWithoutCountsIsRefused) {
     TempDir dir;
     const std::string msg = errorMessage([&] { loadScene(dir.write("alone.off", "OFF")); });
     EXPECT_TRUE(contains(msg, "expected \"VERTICES FACES EDGES\"")) << msg;
+    // "OFF 0 0" at the end of the file made OpenMesh's reader spin.
+    EXPECT_TRUE(contains(errorMessage([&] { loadScene(dir.write("zero.off", "OFF  0 0 ")); }), "no vertices"));
 }
 
 // The file that showed it, as Debian ships it.

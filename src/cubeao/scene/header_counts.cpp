@@ -146,6 +146,12 @@ ClaimedCounts offClaims(std::ifstream& in, long double size) {
             return bad;
         }
     }
+    // No vertices or no faces is no mesh, and OpenMesh's text reader spins on such a file when the
+    // counts end it ("OFF 0 0", found by tests/fuzz/fuzz_mesh.cpp).
+    if (vertices == 0 || faces == 0) {
+        bad.malformed = "OFF header: " + std::string(vertices == 0 ? "no vertices" : "no faces") + " (nothing to load)";
+        return bad;
+    }
     const std::streamoff header = bodyStart(in);
     if (header < 0) return {};
     ClaimedCounts lie = firstImpossible({{"vertex", vertices, binary ? 12.0L : 6.0L},
