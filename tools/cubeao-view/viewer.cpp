@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <deque>
 #include <filesystem>
+#include <iterator>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -144,6 +145,9 @@ private:
     void save(const fs::path& file);
     fs::path defaultSavePath() const;
     void startLive();
+    void setLive(bool on);    // the key L, the panel's checkbox and the script's `live`
+    void togglePlaying();     // the key P and the panel's button
+    void toggleRecording();   // the key R and the panel's button (to walk.json)
     void startRecording(const fs::path& file);
     void stopRecording();
     void setPathFrame(std::size_t f);
@@ -296,14 +300,12 @@ void Viewer::buildPipelines() {
         method = cli::makeAoPass(ssao_, cache_.get(), scene_, settings, true);
     } else if (o_.live) {
         // No cache: an empty probe set that live placement fills; GTAO covers what no probe sees yet.
-        method = std::make_unique<ProbeProjectionPass>(cacheParamsFor(liveBake(Estimator::HorizonSplit), scene_.hash),
-                                                       scene_.positions, scene_.indices, settings);
+        auto pass = std::make_unique<ProbeProjectionPass>(
+            cacheParamsFor(liveBake(Estimator::HorizonSplit), scene_.hash), scene_.positions, scene_.indices, settings);
+        pass->setFallback(std::make_unique<GtaoFallback>(ssao_));  // ssao_ is gtao's, as makeAoPass gives it
+        method = std::move(pass);
     } else {
         method = std::make_unique<SsaoPass>(ssao_);
-    }
-    if (auto* p = dynamic_cast<ProbeProjectionPass*>(method.get()); p && !p->fallback()) {
-        SsaoSettings gtao = ssao_;
-        p->setFallback(std::make_unique<GtaoFallback>(gtao));
     }
     main_ = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, std::move(method), BlurSettings{},
                                             composite_);
@@ -370,10 +372,7 @@ void Viewer::startLive() {
             std::vector<ProbeRecord> records;
             std::vector<std::uint32_t> ids;
             for (std::size_t i = 0; i < cache_->probeCount(); ++i) {
-                const ProbeView v = cache_->probe(i);
-                records.push_back({v.index, v.position, v.maxDistance,
-                                   std::vector<std::uint8_t>(v.aoConfidence.begin(), v.aoConfidence.end()),
-                                   std::vector<std::uint8_t>(v.depth.begin(), v.depth.end())});
+                records.push_back(cache_->copyProbe(i));
                 ids.push_back(std::uint32_t(i));
             }
             live_->adopt(std::move(records), ids, cache_->params());
@@ -382,6 +381,25 @@ void Viewer::startLive() {
                      100.0 * o_.coverageTarget);
     }
     liveOn_ = true;
+}
+
+void Viewer::setLive(bool on) {
+    if (on)
+        startLive();
+    else
+        liveOn_ = false;
+}
+
+void Viewer::togglePlaying() {
+    if (!pathFrame_) setPathFrame(0);
+    playing_ = !playing_;
+}
+
+void Viewer::toggleRecording() {
+    if (recordFile_)
+        stopRecording();
+    else
+        startRecording("walk.json");
 }
 
 void Viewer::setPathFrame(std::size_t f) {
@@ -500,14 +518,11 @@ bool Viewer::stepScript() {
             if (!m) throw UsageError(where + ": \"" + c.text + "\" is not a view mode");
             mode_ = *m;
         } else if (c.verb == "baseline") {
-            if (c.text != "gtao" && c.text != "hbao" && c.text != "alchemy")
+            if (std::find(std::begin(kBaselines), std::end(kBaselines), c.text) == std::end(kBaselines))
                 throw UsageError(where + ": baseline \"" + c.text + "\": expected gtao, hbao or alchemy");
             baseline_ = c.text;
         } else if (c.verb == "live") {
-            if (c.text == "on")
-                startLive();
-            else
-                liveOn_ = false;
+            setLive(c.text == "on");
         } else if (c.verb == "idle") {
             forcedIdle_ = int(n[0]);
             waitFrames_ = int(n[0]) - 1;
@@ -586,7 +601,7 @@ void Viewer::renderFrame() {
     ProbeProjectionPass* pass = probes();
     if (pass && liveOn_ && live_) {
         const bool idle = forcedIdle_ > 0 || (script_.empty() && idleFrames_ > 60 && !playing_);
-        live_->frame(camera_.pinhole(w, h), idle, *pass);
+        live_->frame(pinhole, idle, *pass);
     }
     if (forcedIdle_ > 0) --forcedIdle_;
     const bool needsDiagnostics = mode_ == ViewMode::ProbeId || mode_ == ViewMode::Footprint ||
@@ -711,7 +726,7 @@ nlohmann::json Viewer::summary() const {
                      {"bake_ms_budget", o_.bakeMsPerFrame}};
         if (path_) {
             // The walk's coverage with every probe placed so far (coverage.h's definition, Embree): per
-            // path frame at the coverage count's resolution.
+            // path frame at FeedbackSettings' default 64×36 (the live count may use another height).
             const placement::FeedbackSettings fs;
             double sum = 0.0, lowest = 1.0;
             for (std::size_t f = 0; f < path_->frames.size(); ++f) {
@@ -749,18 +764,10 @@ void Viewer::handleKeys() {
         if (pressed(GLFW_KEY_1 + int(i))) mode_ = all[i];
     if (pressed(GLFW_KEY_TAB)) showPanel_ = !showPanel_;
     if (pressed(GLFW_KEY_ESCAPE)) quit_ = true;
-    if (pressed(GLFW_KEY_P) && path_) {
-        if (!pathFrame_) setPathFrame(0);
-        playing_ = !playing_;
-    }
+    if (pressed(GLFW_KEY_P) && path_) togglePlaying();
     if (pressed(GLFW_KEY_RIGHT_BRACKET) && path_) setPathFrame(pathFrame_ ? *pathFrame_ + 1 : 0);
     if (pressed(GLFW_KEY_LEFT_BRACKET) && path_) setPathFrame(pathFrame_ && *pathFrame_ > 0 ? *pathFrame_ - 1 : 0);
-    if (pressed(GLFW_KEY_R)) {
-        if (recordFile_)
-            stopRecording();
-        else
-            startRecording("walk.json");
-    }
+    if (pressed(GLFW_KEY_R)) toggleRecording();
     if (pressed(GLFW_KEY_F12)) {
         char name[64];
         std::snprintf(name, sizeof name, "cubeao-view-%03d.png", screenshots_++);
@@ -770,12 +777,7 @@ void Viewer::handleKeys() {
     const bool ctrl = glfwGetKey(window_->window(), GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS ||
                       glfwGetKey(window_->window(), GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS;
     if (pressed(GLFW_KEY_S) && ctrl) save(defaultSavePath());
-    if (pressed(GLFW_KEY_L)) {
-        if (liveOn_)
-            liveOn_ = false;
-        else
-            startLive();
-    }
+    if (pressed(GLFW_KEY_L)) setLive(!liveOn_);
     const float scroll = ImGui::GetIO().MouseWheel;
     if (scroll != 0.0f && !ImGui::GetIO().WantCaptureMouse) speed_ *= std::pow(1.25f, scroll);
 }
@@ -848,12 +850,7 @@ void Viewer::drawPanel() {
     // Live placement.
     section("live placement");
     bool on = liveOn_;
-    if (ImGui::Checkbox("place probes while walking (L)", &on)) {
-        if (on)
-            startLive();
-        else
-            liveOn_ = false;
-    }
+    if (ImGui::Checkbox("place probes while walking (L)", &on)) setLive(on);
     if (live_) {
         const placement::LivePlacement::Stats s = live_->stats();
         ImGui::ProgressBar(float(s.coverage), ImVec2(170, 0));
@@ -870,18 +867,10 @@ void Viewer::drawPanel() {
     if (path_) {
         int f = pathFrame_ ? int(*pathFrame_) : -1;
         if (ImGui::SliderInt("path frame", &f, 0, int(path_->frames.size()) - 1)) setPathFrame(std::size_t(std::max(f, 0)));
-        if (ImGui::Button(playing_ ? "pause (P)" : "play (P)")) {
-            if (!pathFrame_) setPathFrame(0);
-            playing_ = !playing_;
-        }
+        if (ImGui::Button(playing_ ? "pause (P)" : "play (P)")) togglePlaying();
         ImGui::SameLine();
     }
-    if (ImGui::Button(recordFile_ ? "stop recording (R)" : "record (R)")) {
-        if (recordFile_)
-            stopRecording();
-        else
-            startRecording("walk.json");
-    }
+    if (ImGui::Button(recordFile_ ? "stop recording (R)" : "record (R)")) toggleRecording();
     if (recordFile_) {
         ImGui::SameLine();
         ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "REC %zu", recorded_.size());
