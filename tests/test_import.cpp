@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <random>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -221,6 +223,47 @@ TEST(ImportStl, NearDuplicateCornersStayApart) {
     const float nearOne = std::nextafter(1.0f, 2.0f);
     EXPECT_EQ(std::count(s.positions.begin(), s.positions.end(), glm::vec3(nearOne, 1, 0)), 1);
     EXPECT_EQ(std::count(s.positions.begin(), s.positions.end(), glm::vec3(1, 1, 0)), 1);
+}
+
+// Binary STL is read by cubeao itself (stl_binary.h), ASCII STL by OpenMesh: the same triangles
+// written both ways must give the same scene, to the hash. A seeded soup with shared corners, a
+// degenerate facet (two corners equal) and a header that starts with "solid" as some exporters write.
+TEST(ImportStl, BinaryGivesTheSceneAsciiGives) {
+    std::mt19937 rng(3);
+    std::uniform_int_distribution<int> pick(0, 11);
+    std::vector<glm::vec3> corners;  // a small lattice, so facets share corners
+    for (int i = 0; i < 12; ++i) corners.emplace_back(float(i % 3), float(i / 3 % 2) * 0.5f, float(i / 6) * 2.0f);
+    std::vector<std::array<glm::vec3, 3>> facets;
+    for (int t = 0; t < 40; ++t) facets.push_back({corners[pick(rng)], corners[pick(rng)], corners[pick(rng)]});
+    facets.push_back({corners[0], corners[0], corners[1]});
+    facets.push_back({corners[0], corners[1], corners[4]});
+    std::string ascii = "solid soup\n", binary = "solid binary soup, not ASCII";
+    binary.resize(80, ' ');
+    auto put32 = [&](std::uint32_t v) {
+        for (int k = 0; k < 4; ++k) binary.push_back(char(v >> (8 * k) & 0xff));
+    };
+    put32(std::uint32_t(facets.size()));
+    for (const auto& f : facets) {
+        ascii += stlFacet({f[0], f[1], f[2]});
+        for (int k = 0; k < 3; ++k) put32(0);  // facet normal: unused
+        for (const glm::vec3& p : f)
+            for (int k = 0; k < 3; ++k) {
+                std::uint32_t bits;
+                std::memcpy(&bits, &p[k], 4);
+                put32(bits);
+            }
+        binary += std::string(2, '\0');
+    }
+    ascii += "endsolid soup\n";
+    TempDir dir;
+    const Scene a = loadScene(dir.write("ascii.stl", ascii)), b = loadScene(dir.write("binary.stl", binary));
+    expectWellFormed(b);
+    EXPECT_EQ(b.positions, a.positions);
+    EXPECT_EQ(b.indices, a.indices);
+    EXPECT_EQ(b.hash, a.hash);
+    EXPECT_GT(a.triangleCount(), 20u);
+    // A file one byte short is not binary STL by its size: it goes to OpenMesh, which refuses it.
+    EXPECT_THROW(loadScene(dir.write("short.stl", binary.substr(0, binary.size() - 1))), Error);
 }
 
 TEST(ImportObj, UpperCaseExtension) {

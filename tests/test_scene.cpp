@@ -470,3 +470,56 @@ TEST(RepairMesh, UndefinedNormalsBecomeUpAndAreCounted) {
     EXPECT_EQ(s.problems.zeroNormals, 3u);
     for (const glm::vec3& n : s.normals) EXPECT_EQ(n, glm::vec3(0, 0, 1));
 }
+
+// ---- checkWinding -------------------------------------------------------------------------------
+
+namespace {
+
+// A closed tetrahedron, every face counter-clockwise seen from outside: 6 edges, each run both ways.
+Scene tetrahedron(bool flipLast, bool splitCorners) {
+    const std::vector<glm::vec3> p{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    std::vector<std::array<std::uint32_t, 3>> faces{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    if (flipLast) std::swap(faces[3][1], faces[3][2]);
+    std::vector<glm::vec3> positions;
+    std::vector<std::uint32_t> indices;
+    for (const auto& f : faces)
+        for (std::uint32_t v : f) {
+            // Split corners: every face its own copy of each position (as a file with face normals has it).
+            if (splitCorners) {
+                indices.push_back(std::uint32_t(positions.size()));
+                positions.push_back(p[v]);
+            } else {
+                indices.push_back(v);
+            }
+        }
+    return makeScene("tet.obj", splitCorners ? positions : p, indices);
+}
+
+}  // namespace
+
+TEST(SceneWinding, ClosedConsistentMeshHasNoFlippedEdge) {
+    const WindingCheck w = checkWinding(tetrahedron(false, false));
+    EXPECT_EQ(w.sharedEdges, 6u);
+    EXPECT_EQ(w.flippedEdges, 0u);
+}
+
+TEST(SceneWinding, OneFlippedFaceFlipsItsThreeEdges) {
+    const WindingCheck w = checkWinding(tetrahedron(true, false));
+    EXPECT_EQ(w.sharedEdges, 6u);
+    EXPECT_EQ(w.flippedEdges, 3u);
+    EXPECT_DOUBLE_EQ(w.flippedShare(), 0.5);
+}
+
+TEST(SceneWinding, CornersSplitByNormalsAreStillOneEdge) {
+    EXPECT_EQ(checkWinding(tetrahedron(false, true)).flippedEdges, 0u);
+    const WindingCheck w = checkWinding(tetrahedron(true, true));
+    EXPECT_EQ(w.sharedEdges, 6u);
+    EXPECT_EQ(w.flippedEdges, 3u);
+}
+
+TEST(SceneWinding, BoundaryAndNonManifoldEdgesAreNotCounted) {
+    // Three triangles on one edge (a fin) and one lone triangle: no edge is shared by exactly two.
+    const Scene s = makeScene("fin.obj", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {5, 5, 5}, {6, 5, 5}, {5, 6, 5}},
+                              {0, 1, 2, 1, 0, 3, 0, 1, 4, 5, 6, 7});
+    EXPECT_EQ(checkWinding(s).sharedEdges, 0u);
+}

@@ -38,6 +38,14 @@ std::string errorMessage(F&& f) {
     return "";
 }
 
+// Whether this build runs under AddressSanitizer (CUBEAO_SANITIZE): GCC and clang define
+// __SANITIZE_ADDRESS__ with -fsanitize=address. Address-space limits cannot apply under it.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kAddressSanitizer = true;
+#else
+inline constexpr bool kAddressSanitizer = false;
+#endif
+
 inline bool contains(const std::string& haystack, const std::string& needle) {
     return haystack.find(needle) != std::string::npos;
 }

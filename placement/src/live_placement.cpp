@@ -89,8 +89,8 @@ struct LivePlacement::Impl {
     Impl(const PlacementScene& ps, const BakeSettings& fast, const BakeSettings& traced, LiveSettings s)
         : ps(ps),
           settings(s),
-          fastParams(cacheParamsFor(fast, ps.scene().hash)),
-          tracedParams(cacheParamsFor(traced, ps.scene().hash)),
+          fastParams(cacheParamsFor(fast, ps.scene())),
+          tracedParams(cacheParamsFor(traced, ps.scene())),
           feedback(ps, s.feedback),
           count(ps.scene(), s.nearPlane),
           fastBaker(ps.scene(), fast),

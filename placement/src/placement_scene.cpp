@@ -1,4 +1,5 @@
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <tuple>
 #include <string>
@@ -22,10 +23,15 @@ void PlaceSettings::validate() const {
         throw UsageError("--texels-per-radius must be a finite number > 0");
     if (!positive(voxel)) throw UsageError("--voxel must be a finite length ≥ 0 (0: automatic)");
     if (!positive(clearance)) throw UsageError("--clearance must be a finite length ≥ 0 (0: half a voxel)");
-    if (samples < 1) throw UsageError("--samples must be at least 1");
-    if (votingRays < 1) throw UsageError("--rays must be at least 1");
+    // Upper bounds far above any use (defaults 12000 samples, 24 rays) and below what exhausts memory
+    // or runs for hours (issue 15).
+    if (samples < 1 || samples > 1'000'000)
+        throw UsageError("--samples must be between 1 and 1000000 (got " + std::to_string(samples) + ")");
+    if (votingRays < 1 || votingRays > 4096)
+        throw UsageError("--rays must be between 1 and 4096 (got " + std::to_string(votingRays) + ")");
     if (!(target > 0.0 && target <= 1.0)) throw UsageError("--coverage-target must lie in (0, 1]");
-    if (budget < 0) throw UsageError("--budget must be ≥ 0 (0: no limit)");
+    if (budget < 0 || budget > 1'000'000)
+        throw UsageError("--budget must be between 0 and 1000000 (0: no limit) (got " + std::to_string(budget) + ")");
 }
 
 nlohmann::json PlaceSettings::toJson() const {
@@ -42,6 +48,25 @@ PlacementScene::PlacementScene(const Scene& scene, const PlaceSettings& settings
     Stopwatch watch;
     if (settings_.radius == 0.0f) settings_.radius = scene.defaultRadius();
     criterion_ = {settings_.res, settings_.radius / settings_.texelsPerRadius, 0.05f};
+    // An explicit --voxel sets the grid's size in the scene's box: refuse one too fine for memory before
+    // anything is allocated (issue 15; the count would also overflow the grid's int dimensions).
+    if (settings_.voxel > 0.0f) {
+        const glm::vec3 extent = glm::max(scene.bounds.max - scene.bounds.min, glm::vec3(1e-6f));
+        const double voxels = std::ceil(double(extent.x) / settings_.voxel) *
+                              std::ceil(double(extent.y) / settings_.voxel) *
+                              std::ceil(double(extent.z) / settings_.voxel);
+        constexpr double kMaxVoxels = double(1 << 26);  // ~67 M: a byte or two each per pass
+        if (voxels > kMaxVoxels) {
+            const double smallest = std::cbrt(double(extent.x) * extent.y * extent.z / kMaxVoxels);
+            char buf[256];
+            std::snprintf(buf, sizeof buf,
+                          "--voxel %g gives %.3g voxels in the scene's %g x %g x %g box: at most %.0f, so --voxel "
+                          "must be at least about %.3g (or 0: automatic)",
+                          double(settings_.voxel), voxels, double(extent.x), double(extent.y), double(extent.z),
+                          kMaxVoxels, smallest * 1.01);
+            throw UsageError(buf);
+        }
+    }
     embree_ = std::make_unique<EmbreeScene>(scene);
     samples_ = sampleSurface(scene, settings_.samples, settings_.seed);
     timings_.emplace_back("samples", watch.restart());

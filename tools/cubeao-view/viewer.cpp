@@ -228,6 +228,11 @@ Viewer::Viewer(const ViewerOptions& o) : o_(o) {
     if (!(o.bakeMsPerFrame > 0.0 && o.bakeMsPerFrame <= 1000.0)) throw UsageError("--bake-ms must lie in (0, 1000]");
     if (o.liveRes < 4 || o.liveRes > 2048 || o.liveRes % 4) throw UsageError("--live-res must be a multiple of 4 in [4, 2048]");
     if (!(o.coverageTarget > 0.0 && o.coverageTarget <= 1.0)) throw UsageError("--coverage-target must lie in (0, 1]");
+    // As `cubeao render`'s: a negative MiB count would wrap to a huge size_t budget.
+    if (!(o.gpuBudgetMb >= 0.0 && o.gpuBudgetMb <= 1024.0 * 1024.0))
+        throw UsageError("--gpu-budget-mb must lie in [0, 1048576] (0 = every probe resident)");
+    if (!(o.uploadMb >= 0.0 && o.uploadMb <= 65536.0))
+        throw UsageError("--upload-mb must lie in [0, 65536] (0 = the default, 8)");
     const auto mode = parseViewMode(o.mode);
     if (!mode) throw UsageError("--mode \"" + o.mode + "\": not a view mode");
     mode_ = *mode;
@@ -267,7 +272,7 @@ Viewer::~Viewer() {
 void Viewer::loadInputs() {
     scene_ = loadScene(o_.scene);
     const bool builtin = o_.scene.rfind("builtin:", 0) == 0;
-    if (!o_.camera.empty() || builtin) path_ = resolveCameraPath(o_.camera, o_.scene);
+    if (!o_.camera.empty() || builtin) path_ = resolveCameraPath(o_.camera, scene_);
     if (!o_.cache.empty()) {
         cache_ = std::make_unique<CacheReader>(o_.cache);
         cache_->expectScene(scene_.hash);
@@ -301,7 +306,7 @@ void Viewer::buildPipelines() {
     } else if (o_.live) {
         // No cache: an empty probe set that live placement fills; GTAO covers what no probe sees yet.
         auto pass = std::make_unique<ProbeProjectionPass>(
-            cacheParamsFor(liveBake(Estimator::HorizonSplit), scene_.hash), scene_.positions, scene_.indices, settings);
+            cacheParamsFor(liveBake(Estimator::HorizonSplit), scene_), scene_.positions, scene_.indices, settings);
         pass->setFallback(std::make_unique<GtaoFallback>(ssao_));  // ssao_ is gtao's, as makeAoPass gives it
         method = std::move(pass);
     } else {
@@ -495,10 +500,10 @@ bool Viewer::stepScript() {
             playing_ = true;
             return true;
         } else if (c.verb == "eye") {
-            camera_.eye = glm::vec3(n[0], n[1], n[2]);
+            camera_.eye = scene_.toLocal(glm::dvec3(n[0], n[1], n[2]));  // scripts speak file coordinates
             pathFrame_.reset();
         } else if (c.verb == "look") {
-            camera_.lookAt(glm::vec3(n[0], n[1], n[2]));
+            camera_.lookAt(scene_.toLocal(glm::dvec3(n[0], n[1], n[2])));
             pathFrame_.reset();
         } else if (c.verb == "move") {
             camera_.move(glm::vec3(n[0], n[1], n[2]));
@@ -698,6 +703,7 @@ void Viewer::stopRecording() {
     if (!recordFile_) return;
     CameraPath p;
     p.scene = scene_.source;
+    p.origin = scene_.origin;  // the frames are local: written back in file coordinates
     p.up = camera_.up, p.fovYDeg = camera_.fovYDeg, p.nearPlane = camera_.nearPlane;
     if (path_) p.width = path_->width, p.height = path_->height, p.farPlane = path_->farPlane;
     p.frames = recorded_;

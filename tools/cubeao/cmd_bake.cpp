@@ -53,7 +53,6 @@ BakeSettings settingsFrom(const BakeArgs& a, const Scene& scene) {
                     : a.depthFormat == "r32float"
                         ? DepthFormat::R32Float
                         : throw UsageError("--depth-format \"" + a.depthFormat + "\": expected r16unorm, r16float or r32float");
-    if (a.radius < 0.0f) throw UsageError("--radius must be positive");
     return resolveBakeSettings(s, scene.defaultRadius());
 }
 
@@ -151,9 +150,23 @@ nlohmann::json report(const BakeArgs& a, const Scene& scene, const BakeSettings&
     return result;
 }
 
+// The numeric options' ranges, before the scene or the probe set is read (issue 15); 0 is each one's
+// default. resolveBakeSettings checks what depends on other values (multiples of 4, depth-res ≤ res).
+void checkRanges(const BakeArgs& a) {
+    checkRange("--res", a.res, 0, 4096, " (0: 512; a multiple of 4)");
+    checkRange("--spp", a.spp, 0, 65536, " (0: 64)");
+    checkFiniteNonNegative("--radius", a.radius, " (0: 2% of the scene's diagonal)");
+    checkRange("--directions", a.directions, 0, 64, " (0: 16; even)");
+    checkRange("--steps", a.steps, 0, 64, " (0: 16)");
+    checkRange("--hybrid-threshold", a.hybridThreshold, 0.0f, 1.0f, " (0: 0.95)");
+    checkRange("--depth-res", a.depthRes, 0, 4096, " (0: res/4)");
+    checkRange("--verify-spp", a.verifySpp, 0, 4 * 65536, " (0: 4x --spp)");
+}
+
 void run(const BakeArgs& a) {
+    checkRanges(a);
     const Scene scene = loadScene(a.scene);
-    const std::vector<ProbeSpec> probes = readProbeSet(a.probes);
+    const std::vector<ProbeSpec> probes = readProbeSet(a.probes, scene.origin);
     const BakeSettings settings = settingsFrom(a, scene);
     const BakeShard shard = parseBakeShard(a.shard);
     ProbeBakerOptions options;
@@ -161,9 +174,8 @@ void run(const BakeArgs& a) {
                       : a.gbuffer == "six-pass" ? GBufferMode::SixPass
                                                 : throw UsageError("--gbuffer \"" + a.gbuffer + "\": expected layered or six-pass");
     options.timings = a.timings;
-    if (a.verifySpp < 0) throw UsageError("--verify-spp must be positive");
 
-    BakeCacheWriter cache(a.out, cacheParamsFor(settings, scene.hash), probes);  // checks --out first
+    BakeCacheWriter cache(a.out, cacheParamsFor(settings, scene), probes);  // checks --out first
     const std::size_t todo = probesToBake(probes.size(), shard, cache).size();
     if (!a.dump.empty()) fs::create_directories(a.dump);
     spdlog::info("bake: {} ({} triangles), {} probes{}, {} to bake into {}, {} on the {}, {}² texels per face, R = {}",

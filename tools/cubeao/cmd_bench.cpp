@@ -31,7 +31,7 @@ struct BenchArgs {
 };
 
 // Probes where a person walks: camera positions spread evenly along the scene's path.
-std::vector<ProbeSpec> probePositions(const std::string& scene, const std::string& camera, int count) {
+std::vector<ProbeSpec> probePositions(const Scene& scene, const std::string& camera, int count) {
     const CameraPath path = resolveCameraPath(camera, scene);
     std::vector<ProbeSpec> out;
     for (int i = 0; i < count; ++i)
@@ -55,7 +55,7 @@ nlohmann::json runJson(const BakeStats& stats) {
 nlohmann::json benchScene(const BenchArgs& a, const std::string& spec, const std::string& camera,
                           const std::optional<gl::HeadlessContext>& context) {
     const Scene scene = loadScene(spec);
-    const std::vector<ProbeSpec> probes = probePositions(spec, camera, a.probes);
+    const std::vector<ProbeSpec> probes = probePositions(scene, camera, a.probes);
     nlohmann::json runs = nlohmann::json::array(), gbufferModes = nlohmann::json::object();
     for (const std::string& device : a.devices) {
         if (device == "gpu" && !context) continue;
@@ -103,7 +103,9 @@ nlohmann::json benchScene(const BenchArgs& a, const std::string& spec, const std
 void runBake(const BenchArgs& a) {
     if (!a.cameras.empty() && a.cameras.size() != a.scenes.size())
         throw UsageError("--camera: give one per --scene (or none for built-in scenes)");
-    if (a.probes < 1) throw UsageError("--probes must be at least 1");
+    checkRange("--res", a.res, 4, 4096);  // resolveBakeSettings also wants a multiple of 4
+    checkRange("--spp", a.spp, 1, 65536);
+    checkRange("--probes", a.probes, 1, 4096);
     std::string whyNot;
     std::optional<gl::HeadlessContext> context;
     if (std::find(a.devices.begin(), a.devices.end(), "gpu") != a.devices.end()) {
@@ -135,9 +137,9 @@ void addBench(CLI::App& app) {
     cmd->add_option("--camera", a->cameras, "Camera path per scene: probes go to its eye positions");
     cmd->add_option("--estimator", a->estimators, "Estimators to time (repeatable)")->capture_default_str();
     cmd->add_option("--device", a->devices, "gpu and/or cpu")->capture_default_str();
-    cmd->add_option("--res", a->res, "Face resolution")->capture_default_str()->check(CLI::Range(4, 4096));
-    cmd->add_option("--spp", a->spp, "Rays per traced texel")->capture_default_str()->check(CLI::PositiveNumber);
-    cmd->add_option("--probes", a->probes, "Probes per scene")->capture_default_str();
+    cmd->add_option("--res", a->res, "Face resolution, 4..4096")->capture_default_str();
+    cmd->add_option("--spp", a->spp, "Rays per traced texel, 1..65536")->capture_default_str();
+    cmd->add_option("--probes", a->probes, "Probes per scene, 1..4096")->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
     cmd->callback([a] { runBake(*a); });
     addBenchDepth(*bench);

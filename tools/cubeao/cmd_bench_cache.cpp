@@ -16,6 +16,7 @@
 #include <memory>
 #include <random>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/cache/depth_cube.h"
@@ -81,14 +82,21 @@ LoadTime load(const fs::path& path, bool cold) {
 }
 
 void run(const CacheBenchArgs& a) {
-    if (a.probes < 1 || a.res < 4 || a.res % 4 != 0 || a.runs < 1)
-        throw UsageError("bench cache: --probes ≥ 1, --res a multiple of 4, --runs ≥ 1");
+    checkRange("--probes", a.probes, 1, 1'000'000);
+    checkRange("--res", a.res, 4, 4096);
+    if (a.res % 4 != 0) throw UsageError("--res must be a multiple of 4 (BC5 blocks; got " + std::to_string(a.res) + ")");
+    checkRange("--runs", a.runs, 1, 1000);
     CacheParams p;
     p.sceneHash = 1;
     p.res = std::uint32_t(a.res);
     p.depthRes = std::uint32_t(depth::depthResFor(a.res));
     p.depthFormat = depth::kDefaultFormat;
     p.radius = 1.0f;
+    // The probes are made in memory before they are written: bound the whole before any is allocated.
+    constexpr std::uint64_t kMaxBytes = std::uint64_t(4) << 30;
+    if (const std::uint64_t bytes = cacheFileSize(p, std::uint64_t(a.probes)); bytes > kMaxBytes)
+        throw UsageError("--probes " + std::to_string(a.probes) + " at --res " + std::to_string(a.res) + " make a " +
+                         std::to_string(bytes >> 20) + " MiB cache: at most 4096 MiB (fewer probes or a lower --res)");
     const fs::path path = a.out.empty() ? fs::temp_directory_path() / "cubeao-bench-cache.cubeao" : fs::path(a.out);
     std::vector<ProbeRecord> probes(std::size_t(a.probes));
     std::mt19937_64 rng(1);

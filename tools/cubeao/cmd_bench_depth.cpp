@@ -12,6 +12,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "cubeao/bake/bake.h"
 #include "cubeao/core/cube.h"
@@ -196,12 +197,21 @@ nlohmann::json printDefaults(const Variant& full, const Variant& chosen, const T
 }
 
 void run(const DepthArgs& a) {
-    if (a.res < 8 || a.probes < 1 || a.frames < 1 || a.width < 1 || a.height < 1 || a.candidates < 1)
-        throw UsageError("bench depth: --res ≥ 8 and positive --probes, --frames, --width, --height, --candidates");
+    checkRange("--res", a.res, 8, 4096);
+    checkRange("--probes", a.probes, 1, 1024);
+    checkRange("--frames", a.frames, 1, 10'000);
+    checkRange("--width", a.width, 1, 4096);
+    checkRange("--height", a.height, 1, 4096);
+    checkRange("--candidates", a.candidates, 1, 64);
+    // Every pixel of every frame is a camera point held in memory.
+    constexpr std::uint64_t kMaxPoints = std::uint64_t(1) << 24;
+    if (std::uint64_t(a.frames) * std::uint64_t(a.width) * std::uint64_t(a.height) > kMaxPoints)
+        throw UsageError("--frames x --width x --height must be at most " + std::to_string(kMaxPoints) + " camera points (got " +
+                         std::to_string(std::uint64_t(a.frames) * std::uint64_t(a.width) * std::uint64_t(a.height)) + ")");
     for (const int d : a.divisors)
         if (d < 1 || d > a.res) throw UsageError("--divisor " + std::to_string(d) + ": expected 1..res");
     const Scene scene = loadScene(a.scene);
-    const CameraPath path = resolveCameraPath(a.camera, a.scene);
+    const CameraPath path = resolveCameraPath(a.camera, scene);
     const EmbreeScene rt(scene);
     std::vector<glm::vec3> probes;
     for (const ProbeSpec& p : probesAlongPath(path, std::size_t(a.probes))) probes.push_back(p.position);

@@ -78,13 +78,16 @@ void checkUsage(const RenderBenchArgs& a) {
         if (m != "probes" && m != "gtao" && m != "hbao" && m != "alchemy")
             problems.push_back("--methods \"" + m + "\": expected probes, gtao, hbao or alchemy");
     if (a.methods.empty()) problems.push_back("--methods: name at least one");
-    if (a.width < 1 || a.height < 1) problems.push_back("--width and --height must be positive");
-    if (a.frames < 1) problems.push_back("--frames must be at least 1");
-    if (a.rounds < 1) problems.push_back("--rounds must be at least 1");
-    if (a.res < 4 || a.res % 4 != 0) problems.push_back("--res must be a multiple of 4 (BC5 blocks)");
-    if (a.spp < 1) problems.push_back("--spp must be at least 1");
+    // Ranges before anything is loaded or allocated (issue 15).
+    for (std::string p : {rangeProblem("--width", a.width, 1, kMaxImageSide),
+                          rangeProblem("--height", a.height, 1, kMaxImageSide),
+                          rangeProblem("--frames", a.frames, 1, 10'000), rangeProblem("--rounds", a.rounds, 1, 1000),
+                          rangeProblem("--res", a.res, 4, 4096), rangeProblem("--spp", a.spp, 1, 65536)})
+        if (!p.empty()) problems.push_back(std::move(p));
+    if (a.res % 4 != 0) problems.push_back("--res must be a multiple of 4 (BC5 blocks)");
     for (const std::size_t n : a.probes)
-        if (n < 1) problems.push_back("--probes: every count must be at least 1");
+        if (std::string p = rangeProblem("--probes: every count", n, std::size_t(1), std::size_t(100'000)); !p.empty())
+            problems.push_back(std::move(p));
     if (!(a.gpuBudgetMb >= 0.0 && a.gpuBudgetMb <= 1024.0 * 1024.0))
         problems.push_back("--gpu-budget-mb must lie in [0, 1048576] (0 = every probe resident)");
     if (!(a.uploadMb >= 0.0 && a.uploadMb <= 65536.0))
@@ -193,7 +196,7 @@ SweepProbes syntheticSweepProbes(const RenderBenchArgs& a, const Scene& scene, c
     s.settings = sweepBakeSettings(a, scene);
     if (s.settings.depthFormat != DepthFormat::R16Unorm)
         throw Error("bench render --synthetic: writes r16unorm distances, the bake's default format");
-    const CacheParams params = cacheParamsFor(s.settings, scene.hash);
+    const CacheParams params = cacheParamsFor(s.settings, scene);
     const auto start = std::chrono::steady_clock::now();
     {
         const EmbreeScene rt(scene);
@@ -325,7 +328,7 @@ struct Bench {
     std::unique_ptr<Timed> probes(const SweepProbes& sweep, std::size_t count, const fs::path& dir, bool keep) const {
         const fs::path file = dir / ((sweep.synthetic ? "synthetic_" : "baked_") + std::to_string(sweep.settings.res) +
                                      "_" + std::to_string(count) + ".cubeao");
-        const CacheParams params = cacheParamsFor(sweep.settings, scene.hash);
+        const CacheParams params = cacheParamsFor(sweep.settings, scene);
         const bool reuse = keep && reusable(file, params, count);
         double writeMs = 0.0;
         if (reuse) {
@@ -471,7 +474,7 @@ struct TempDir {
 void run(const RenderBenchArgs& a) {
     checkUsage(a);
     const Scene scene = loadScene(a.scene);
-    const CameraPath path = resolveCameraPath(a.camera, a.scene);
+    const CameraPath path = resolveCameraPath(a.camera, scene);
     std::string whyNot;
     const std::optional<gl::HeadlessContext> context = gl::HeadlessContext::tryCreate(&whyNot);
     if (!context) throw Error("bench render needs an OpenGL 4.5 context: " + whyNot);

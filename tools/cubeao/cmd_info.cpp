@@ -16,6 +16,7 @@
 #include "cubeao/core/sampling.h"
 #include "cubeao/reference/embree_scene.h"
 #include "cubeao/scene/import.h"
+#include "cubeao/scene/repair.h"
 
 namespace cubeao::cli {
 namespace {
@@ -42,7 +43,7 @@ bool isCache(const std::string& target) {
 // placement code): a probe is inside geometry when most of 64 rays from it first meet the back of a
 // face, and the nearest surface along those rays bounds its clearance from above.
 nlohmann::json probeCheck(const Scene& s, const std::string& file) {
-    const std::vector<ProbeSpec> probes = readProbeSet(file);
+    const std::vector<ProbeSpec> probes = readProbeSet(file, s.origin);
     const EmbreeScene embree(s);
     constexpr int kRays = 64;
     std::size_t inside = 0, outside = 0;
@@ -63,8 +64,9 @@ nlohmann::json probeCheck(const Scene& s, const std::string& file) {
         }
         if (2 * back > kRays) {
             ++inside;
-            std::printf("  probe %zu at (%g, %g, %g): inside geometry (%d of %d rays meet a back face)\n", i, p.x, p.y,
-                        p.z, back, kRays);
+            const glm::dvec3 f = s.toFile(p);  // as probes.json has it
+            std::printf("  probe %zu at (%.10g, %.10g, %.10g): inside geometry (%d of %d rays meet a back face)\n", i,
+                        f.x, f.y, f.z, back, kRays);
         }
         nearest = std::min(nearest, closest);
     }
@@ -77,17 +79,27 @@ nlohmann::json probeCheck(const Scene& s, const std::string& file) {
 void sceneInfo(const InfoArgs& a) {
     if (a.verify) throw UsageError("--verify checks a cache's checksums; " + a.target + " is a scene");
     const Scene s = loadScene(a.target);
+    // File coordinates, as the model file and camera paths have them (the scene itself is local).
     const auto& b = s.bounds;
+    const glm::dvec3 lo = s.toFile(b.min), hi = s.toFile(b.max);
     std::printf("%s\n  triangles  %zu\n  vertices   %zu\n  bbox       (%g, %g, %g) -> (%g, %g, %g)\n"
                 "  hash       %s\n  radius     %g (default: 2%% of the diagonal)\n"
                 "  repaired   %zu zero-area triangles, %zu duplicate vertices, %zu unused vertices%s\n",
-                s.source.c_str(), s.triangleCount(), s.vertexCount(), b.min.x, b.min.y, b.min.z, b.max.x,
-                b.max.y, b.max.z, hashToString(s.hash).c_str(), s.defaultRadius(), s.problems.degenerateTriangles,
+                s.source.c_str(), s.triangleCount(), s.vertexCount(), lo.x, lo.y, lo.z, hi.x, hi.y, hi.z,
+                hashToString(s.hash).c_str(), s.defaultRadius(), s.problems.degenerateTriangles,
                 s.problems.duplicateVertices, s.problems.unusedVertices,
                 s.problems.normalsComputed ? "; normals computed" : "");
+    if (s.recentred())
+        std::printf("  origin     (%.10g, %.10g, %.10g): far from the file's origin, re-centred there\n", s.origin.x,
+                    s.origin.y, s.origin.z);
     if (!s.problems.warnings.empty())
         std::printf("  importer   %zu warnings (first: %s)\n", s.problems.warnings.size(),
                     s.problems.warnings.front().c_str());
+    const WindingCheck winding = checkWinding(s);
+    if (winding.flippedEdges > 0)
+        std::printf("  winding    inconsistent: %zu of %zu shared edges run the same way by both faces (%.1f %%); "
+                    "rendering does not mind, placement's inside test does\n",
+                    winding.flippedEdges, winding.sharedEdges, 100.0 * winding.flippedShare());
     nlohmann::json j{{"scene", s.source},
                      {"triangles", s.triangleCount()},
                      {"vertices", s.vertexCount()},
@@ -96,6 +108,12 @@ void sceneInfo(const InfoArgs& a) {
                      {"hash", hashToString(s.hash)},
                      {"default_radius", s.defaultRadius()},
                      {"problems", s.problems.toJson()}};
+    if (s.recentred()) {
+        j["origin"] = {s.origin.x, s.origin.y, s.origin.z};
+        j["bbox"] = {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}};
+    }
+    j["problems"]["shared_edges"] = winding.sharedEdges;
+    j["problems"]["flipped_edges"] = winding.flippedEdges;
     if (!a.probes.empty()) j["probe_check"] = probeCheck(s, a.probes);
     if (a.json) printJson(j);
 }
@@ -127,6 +145,11 @@ void cacheInfo(const InfoArgs& a) {
                 p.depthRes, depthFormatName(p.depthFormat), estimatorName(Estimator(p.estimator)), double(p.radius),
                 falloffName(Falloff(p.falloff)), p.spp, p.seed, p.directions, p.steps,
                 (unsigned long long)cache.fileSize(), cache.bytesPerTexel());
+    if (p.origin != glm::vec3(0.0f)) {
+        std::printf("  origin     (%.10g, %.10g, %.10g): probe positions are relative to it\n", double(p.origin.x),
+                    double(p.origin.y), double(p.origin.z));
+        j["origin"] = {p.origin.x, p.origin.y, p.origin.z};
+    }
     if (a.verify) {
         try {
             cache.verifyAll();

@@ -17,6 +17,7 @@
 #include "cubeao/placement/placement.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/import.h"
+#include "cubeao/scene/repair.h"
 
 namespace cubeao::cli {
 namespace {
@@ -51,7 +52,7 @@ void run(PlaceArgs a) {
     // what is relevant) and free space otherwise. Built-in scenes bring their own path.
     std::unique_ptr<CameraPath> path;
     const bool needsPath = m == "path" || m == "coverage";
-    if (needsPath || !a.camera.empty()) path = std::make_unique<CameraPath>(resolveCameraPath(a.camera, a.scene));
+    if (needsPath || !a.camera.empty()) path = std::make_unique<CameraPath>(resolveCameraPath(a.camera, scene));
     const placement::PlacementScene ps(scene, a.settings, path.get());
 
     placement::Placement result;
@@ -85,10 +86,27 @@ void run(PlaceArgs a) {
             positions.push_back(p.position);
         result = placement::evaluate(ps, positions, "path");
     }
-    if (result.probes.empty())
-        throw Error("place --method " + m + ": no probe placed (" + std::to_string(ps.freeSpace().candidates().size()) +
-                    " free voxels; " + std::to_string(std::count(ps.relevant().begin(), ps.relevant().end(), 1)) +
-                    " relevant samples): is the scene open on every side, or --voxel/--clearance too large?");
+    if (result.probes.empty()) {
+        // Say which of the usual causes applies: no free space at all (a closed solid, or faces whose
+        // winding flips, which the back-face inside test reads as inside), or free space farther from
+        // every surface than a probe of this face size covers.
+        const std::size_t free = ps.freeSpace().candidates().size();
+        std::string why = "is the scene open on every side, or --voxel/--clearance too large?";
+        const WindingCheck winding = checkWinding(scene);
+        if (free == 0 && winding.flippedShare() > 0.01) {
+            char share[32];
+            std::snprintf(share, sizeof share, "%.1f %%", 100.0 * winding.flippedShare());
+            why = "the faces' winding is inconsistent (" + std::string(share) + " of shared edges are run the same way "
+                  "by both faces), so free space reads as inside geometry; orient the faces consistently";
+        } else if (free > 0) {
+            why = "a probe covers a surface only within " + std::to_string(ps.criterion().maxDistance()) +
+                  " of it at --res " + std::to_string(a.settings.res) + " (a texel at most R/" +
+                  std::to_string(int(a.settings.texelsPerRadius)) + "): raise --res or lower --texels-per-radius";
+        }
+        throw Error("place --method " + m + ": no probe placed (" + std::to_string(free) + " free voxels; " +
+                    std::to_string(std::count(ps.relevant().begin(), ps.relevant().end(), 1)) +
+                    " relevant samples): " + why);
+    }
 
     std::vector<ProbeSpec> probes;
     for (const placement::PlacedProbe& p : result.probes) probes.push_back({p.position, p.gain});
@@ -109,7 +127,7 @@ void run(PlaceArgs a) {
           {"closed_rooms", fs.closedRooms}, {"open_components", fs.openComponents}}},
         {"figures", figures},
         {"timings_s", timings}};
-    writeProbeSet(a.out, probes, report);
+    writeProbeSet(a.out, probes, report, scene.origin);
     std::printf("place %s: %zu probes, coverage %.2f %% (twice: %.2f %%) of %.4g relevant area -> %s\n", m.c_str(),
                 probes.size(), 100.0 * result.coverage, 100.0 * result.coverage2, result.relevantArea, a.out.c_str());
     if (a.json) {

@@ -29,13 +29,17 @@ struct ReferenceArgs {
 };
 
 void run(const ReferenceArgs& a) {
-    // Also checked by renderReferenceFrame; here before the scene loads and --out is created.
+    // Ranges first, before the scene loads and --out is created (issue 15: absurd values cost nothing).
+    checkRange("--spp", a.spp, 1, 65536);
+    checkRange("--replicas", a.replicas, 1, 64);
+    checkFiniteNonNegative("--radius", a.radius, " (0: 2% of the scene's diagonal)");
+    checkImageSizeOptions(a.width, a.height);
+    // Also checked by renderReferenceFrame.
     if (a.spp % a.replicas != 0)
         throw UsageError("--replicas " + std::to_string(a.replicas) + " must divide --spp " + std::to_string(a.spp));
     const Scene scene = loadScene(a.scene);
-    const CameraPath path = resolveCameraPath(a.camera, a.scene);
+    const CameraPath path = resolveCameraPath(a.camera, scene);
     const FrameRange range = parseFrameRange(a.frames, path.frames.size());
-    if (a.radius < 0.0f) throw UsageError("--radius must be positive");
     const AoSettings settings{a.radius > 0.0f ? a.radius : scene.defaultRadius(), a.spp, parseFalloff(a.falloff),
                               a.seed};
     int w = 0, h = 0;
@@ -99,12 +103,11 @@ void addReference(CLI::App& app) {
     cmd->add_option("scene", a->scene, "Model file or builtin:NAME")->required();
     cmd->add_option("--camera", a->camera, "Camera path JSON (default for built-in scenes: their own path)");
     cmd->add_option("--out", a->out, "Output directory for ao_NNNN.exr/.png and reference.json")->required();
-    cmd->add_option("--spp", a->spp, "AO rays per pixel")->capture_default_str()->check(CLI::PositiveNumber);
+    cmd->add_option("--spp", a->spp, "AO rays per pixel, 1..65536")->capture_default_str();
     cmd->add_option("--replicas", a->replicas,
                     "Split each pixel's rays into this many independently rotated sets; their spread measures "
-                    "the noise (1: report the independent-ray bound instead). Must divide --spp")
-        ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+                    "the noise (1: report the independent-ray bound instead). 1..64, must divide --spp")
+        ->capture_default_str();
     cmd->add_option("--radius", a->radius, "AO radius R in scene units (default: 2% of the bbox diagonal)");
     cmd->add_option("--falloff", a->falloff, "none | smooth")->capture_default_str();
     cmd->add_option("--frames", a->frames, "Half-open frame range A:B (default: all)");

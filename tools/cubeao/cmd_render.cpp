@@ -74,10 +74,13 @@ PassSettings usageChecked(const RenderArgs& a) {
     p.ssao.method = parseMethod(a);
     p.ssao.falloff = parseFalloff(a.falloff);
     p.ssao.directions = a.directions, p.ssao.steps = a.steps, p.ssao.seed = a.seed;
-    if (a.alchemySigma < 0.0f) throw UsageError("--alchemy-sigma must be positive");
+    checkFiniteNonNegative("--alchemy-sigma", a.alchemySigma, " (0: the default, 0.8)");
     p.ssao.alchemyIntensity = a.alchemySigma;
-    if (a.radius < 0.0f) throw UsageError("--radius must be positive");
+    checkFiniteNonNegative("--radius", a.radius, " (0: 2% of the scene's diagonal)");
     p.ssao.radius = a.radius;
+    checkImageSizeOptions(a.width, a.height);
+    checkRange("--directions", a.directions, 0, 64, " (0: 8; even)");
+    checkRange("--steps", a.steps, 0, 64, " (0: 8)");
     p.blur.radius = a.blur;
     validateBlurSettings(p.blur);
     if (!(a.alpha >= 0.0f && a.alpha <= 1.0f)) throw UsageError("--alpha must lie in [0, 1]");
@@ -137,7 +140,7 @@ struct PixelShares {
 void run(const RenderArgs& a) {
     PassSettings settings = usageChecked(a);
     const Scene scene = loadScene(a.scene);
-    const CameraPath path = resolveCameraPath(a.camera, a.scene);
+    const CameraPath path = resolveCameraPath(a.camera, scene);
     const FrameRange range = parseFrameRange(a.frames, path.frames.size());
     std::unique_ptr<CacheReader> cache;
     if (a.method == "probes") {

@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "cubeao/core/error.h"
+#include "cubeao/gl/context.h"
 #include "cubeao/scenes/builtin_scenes.h"
 
 namespace cubeao::cli {
@@ -34,6 +35,13 @@ int main(int argc, char** argv) {
     cubeao::cli::addRender(app);
     try {
         app.parse(argc, argv);
+        // A GL error is logged where it happens and the work goes on; the command still fails, naming
+        // it, so no script takes its output for good (issue 15).
+        if (const std::size_t errors = cubeao::gl::debugErrorCount(); errors > 0) {
+            std::fprintf(stderr, "cubeao: error: %zu OpenGL error%s during the command; the first: %s\n", errors,
+                         errors == 1 ? "" : "s", cubeao::gl::firstDebugError().c_str());
+            return 1;
+        }
     } catch (const CLI::ParseError& e) {
         return app.exit(e) == 0 ? 0 : 2;
     } catch (const cubeao::UsageError& e) {

@@ -1,6 +1,9 @@
 #include "cubeao/bake/bake_cache.h"
 
+#include <signal.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -62,6 +65,25 @@ std::vector<std::uint32_t> sameBakeIndices(const fs::path& file, const CachePara
     return indices;
 }
 
+// The process id in the name of a temporary file writeCache leaves when killed before its rename:
+// ".OUT.tmp-PID-RANDOM" for the output, ".OUT.part-NNNNNN.tmp-PID-RANDOM" for a part (TempFile,
+// cache_file.cpp). 0 when `name` is not one of those for the output named `outName`.
+pid_t tempFileOwner(const std::string& name, const std::string& outName) {
+    const std::string prefix = "." + outName;
+    if (name.compare(0, prefix.size(), prefix) != 0) return 0;
+    std::string rest = name.substr(prefix.size());
+    if (rest.compare(0, 6, ".part-") == 0) {
+        const std::size_t end = rest.find_first_not_of("0123456789", 6);
+        if (end == 6 || end == std::string::npos) return 0;
+        rest = rest.substr(end);
+    }
+    if (rest.compare(0, 5, ".tmp-") != 0) return 0;
+    const std::size_t dash = rest.find('-', 5);
+    const std::string pid = rest.substr(5, dash == std::string::npos ? std::string::npos : dash - 5);
+    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) return 0;
+    return pid_t(std::stol(pid));
+}
+
 double msSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -99,6 +121,16 @@ void BakeCacheWriter::adoptParts(std::span<const ProbeSpec> probes, const std::s
     std::error_code ec;
     for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
         const std::string name = e.path().filename().string();
+        // A temporary file of a writer that was killed (SIGKILL, power loss) before its rename: never a
+        // part, only disk space. One whose process still runs on this machine is left alone.
+        if (const pid_t owner = tempFileOwner(name, path_.filename().string());
+            owner > 0 && ::kill(owner, 0) != 0 && errno == ESRCH) {
+            std::error_code removeError;
+            if (fs::remove(e.path(), removeError))
+                spdlog::info("{}: temporary file of an interrupted write (process {} is gone): removed",
+                             e.path().string(), owner);
+            continue;
+        }
         // partPath writes at least 6 digits (%06zu): part 1,000,000 on has more; past 18, not ours
         // (and std::stoul would overflow).
         const std::size_t digitCount = name.size() - std::min(name.size(), prefix.size());

@@ -54,8 +54,9 @@ public:
     // its part files must have exactly `params` (scene hash included) and hold each of their indices
     // at the position the probe set gives it; otherwise, or when `path` is a directory or not a
     // cache, Error says what differs and to choose another output or delete the file. Parts whose
-    // probes are all in `path` already (left by a finish() interrupted after its rename) are removed.
-    // Nothing is written yet.
+    // probes are all in `path` already (left by a finish() interrupted after its rename) are removed,
+    // and so are the temporary files of a write that was killed before its rename (".NAME.tmp-PID-…",
+    // PID no longer running). Nothing is written yet.
     BakeCacheWriter(std::filesystem::path path, const CacheParams& params, std::span<const ProbeSpec> probes,
                     Options options);
     BakeCacheWriter(std::filesystem::path path, const CacheParams& params, std::span<const ProbeSpec> probes)

@@ -84,6 +84,12 @@ CacheParams cacheParamsFor(const BakeSettings& s, std::uint64_t sceneHash) {
     return p;
 }
 
+CacheParams cacheParamsFor(const BakeSettings& s, const Scene& scene) {
+    CacheParams p = cacheParamsFor(s, scene.hash);
+    p.origin = glm::vec3(scene.origin);  // exact: chooseOrigin rounds it to a float
+    return p;
+}
+
 std::uint32_t texelKey(int face, int i, int j, int res, std::uint32_t probeIndex, std::uint32_t seed) {
     return kernel::cubeTexelKey({i, j, face}, res, probeIndex ^ seed);
 }

@@ -7,6 +7,7 @@
 
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/reference/ao_reference.h"
+#include "cubeao/scene/scene.h"
 
 namespace cubeao {
 
@@ -44,6 +45,8 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius);
 // estimator does not use are 0 (spp for hsplit and gtao; directions, steps for traced; the hybrid
 // threshold except for hybrid), so a cache is not refused for a setting that made no difference.
 CacheParams cacheParamsFor(const BakeSettings& s, std::uint64_t sceneHash);
+// The same with the scene's hash and origin (Scene::origin, which the header carries from format 2 on).
+CacheParams cacheParamsFor(const BakeSettings& s, const Scene& scene);
 
 // Key of the per-texel rotation of sample sets: the same rays on every device (the shared kernel
 // cubeTexelKey, shaders/common/sampling.h, with probeKey = probeIndex ^ seed).

@@ -11,7 +11,7 @@
 
 namespace cubeao {
 
-std::vector<ProbeSpec> readProbeSet(const std::filesystem::path& file) {
+std::vector<ProbeSpec> readProbeSet(const std::filesystem::path& file, const glm::dvec3& origin) {
     std::ifstream in(file);
     if (!in) throw Error(file.string() + ": cannot open probe set");
     nlohmann::json j;
@@ -37,7 +37,7 @@ std::vector<ProbeSpec> readProbeSet(const std::filesystem::path& file) {
             if (!p["pos"][k].is_number()) throw Error(item + "position components must be numbers");
             const double v = p["pos"][k].get<double>();
             if (!std::isfinite(v) || std::fabs(v) > 1e30) throw Error(item + "position is not finite");
-            spec.position[k] = float(v);
+            spec.position[k] = float(v - origin[k]);
         }
         probes.push_back(spec);
     }
@@ -49,12 +49,16 @@ void writeProbeSet(const std::filesystem::path& file, const std::vector<ProbeSpe
     writeProbeSet(file, probes, nlohmann::json::object());
 }
 
-void writeProbeSet(const std::filesystem::path& file, const std::vector<ProbeSpec>& probes, const nlohmann::json& meta) {
+void writeProbeSet(const std::filesystem::path& file, const std::vector<ProbeSpec>& probes, const nlohmann::json& meta,
+                   const glm::dvec3& origin) {
     nlohmann::json j = meta.is_object() ? meta : nlohmann::json::object();
     j["version"] = 1;
     j["probes"] = nlohmann::json::array();
     for (const auto& p : probes) {
-        nlohmann::json probe{{"pos", {p.position.x, p.position.y, p.position.z}}};
+        const glm::vec3& q = p.position;
+        const glm::dvec3 f = glm::dvec3(q) + origin;
+        nlohmann::json probe{{"pos", origin == glm::dvec3(0.0) ? nlohmann::json{q.x, q.y, q.z}
+                                                               : nlohmann::json{f.x, f.y, f.z}}};
         if (p.gain >= 0.0) probe["gain"] = p.gain;
         j["probes"].push_back(std::move(probe));
     }

@@ -39,7 +39,7 @@ constexpr std::size_t magic = 0, version = 8, headerSize = 12, sceneHash = 16, r
                       depthFormat = 32, estimator = 33, falloff = 34, reserved0 = 35, spp = 36, radius = 40,
                       seed = 44, directions = 48, steps = 52, hybridThreshold = 56, probeCount = 60,
                       tableOffset = 64, payloadOffset = 72, payloadSize = 80, fileSize = 88, tableChecksum = 96,
-                      reserved1 = 104, headerChecksum = 120;
+                      reserved1 = 104, origin = 104, reserved2 = 116, headerChecksum = 120;  // origin: format 2
 }  // namespace hdr
 namespace ent {  // byte offsets in a probe table entry
 constexpr std::size_t position = 0, maxDistance = 12, aoOffset = 16, aoSize = 24, depthOffset = 32, depthSize = 40,
@@ -227,7 +227,8 @@ std::array<std::uint8_t, kHeaderSize> encodeHeader(const CacheParams& p, std::ui
     std::array<std::uint8_t, kHeaderSize> h{};
     const std::uint64_t payloadOffset = kHeaderSize + kEntrySize * probeCount;
     std::memcpy(h.data() + hdr::magic, kMagic.data(), kMagic.size());
-    put32(&h[hdr::version], kCacheFormatVersion);
+    const bool recentred = p.origin != glm::vec3(0.0f);
+    put32(&h[hdr::version], recentred ? 2u : 1u);  // the oldest format that holds the file (cache_file.h)
     put32(&h[hdr::headerSize], kHeaderSize);
     put64(&h[hdr::sceneHash], p.sceneHash);
     put32(&h[hdr::res], p.res);
@@ -247,12 +248,16 @@ std::array<std::uint8_t, kHeaderSize> encodeHeader(const CacheParams& p, std::ui
     put64(&h[hdr::payloadSize], payloadSize);
     put64(&h[hdr::fileSize], payloadOffset + payloadSize + kTrailerSize);
     put64(&h[hdr::tableChecksum], tableChecksum);
+    if (recentred)
+        for (int k = 0; k < 3; ++k) putF32(&h[hdr::origin + 4 * std::size_t(k)], p.origin[k]);
     put64(&h[hdr::headerChecksum], XXH3_64bits(h.data(), hdr::headerChecksum));
     return h;
 }
 
-CacheParams decodeParams(const std::uint8_t* h) {
+CacheParams decodeParams(const std::uint8_t* h, std::uint32_t version) {
     CacheParams p;
+    if (version >= 2)
+        for (int k = 0; k < 3; ++k) p.origin[k] = getF32(h + hdr::origin + 4 * std::size_t(k));
     p.sceneHash = get64(h + hdr::sceneHash);
     p.res = get32(h + hdr::res);
     p.depthRes = get32(h + hdr::depthRes);
@@ -344,6 +349,8 @@ std::vector<std::string> cacheParamProblems(const CacheParams& p) {
         problems.push_back("radius " + fmtFloat(p.radius) + " is not finite and > 0");
     if (!std::isfinite(p.hybridThreshold))
         problems.push_back("hybrid threshold " + fmtFloat(p.hybridThreshold) + " is not finite");
+    if (!std::isfinite(p.origin.x) || !std::isfinite(p.origin.y) || !std::isfinite(p.origin.z))
+        problems.push_back("origin " + fmtVec(p.origin) + " is not finite");
     return problems;
 }
 
@@ -367,6 +374,7 @@ std::vector<std::string> cacheParamDifferences(const CacheParams& a, const Cache
     num("steps", a.steps, b.steps);
     if (a.hybridThreshold != b.hybridThreshold)
         d.push_back("hybrid threshold " + fmtFloat(a.hybridThreshold) + " vs " + fmtFloat(b.hybridThreshold));
+    if (a.origin != b.origin) d.push_back("origin " + fmtVec(a.origin) + " vs " + fmtVec(b.origin));
     return d;
 }
 
@@ -530,9 +538,10 @@ void CacheReader::validate() {
     if (storedHeaderHash != headerHash)
         throw Error(where("header") + "checksum mismatch (stored " + hex64(storedHeaderHash) + ", computed " +
                     hex64(headerHash) + ")");
-    if (data_[hdr::reserved0] != 0 || !allZero(data_ + hdr::reserved1, hdr::headerChecksum - hdr::reserved1))
+    const std::size_t reservedFrom = version_ >= 2 ? hdr::reserved2 : hdr::reserved1;
+    if (data_[hdr::reserved0] != 0 || !allZero(data_ + reservedFrom, hdr::headerChecksum - reservedFrom))
         throw Error(where("header") + "reserved bytes are not zero");
-    params_ = decodeParams(data_);
+    params_ = decodeParams(data_, version_);
     if (const auto problems = cacheParamProblems(params_); !problems.empty())
         throw Error(where("header") + "bad bake parameters: " + join(problems, "; "));
 

@@ -17,8 +17,10 @@
 
 namespace cubeao {
 
-// Newest format this build writes and reads (docs/FORMAT.md "Versioning").
-constexpr std::uint32_t kCacheFormatVersion = 1;
+// Newest format this build writes and reads (docs/FORMAT.md "Versioning"). Format 2 adds the scene's
+// origin (CacheParams::origin); a cache whose origin is 0 is still written as format 1, byte for byte
+// what earlier builds wrote and can read.
+constexpr std::uint32_t kCacheFormatVersion = 2;
 // Every payload section starts at a multiple of this, so BC blocks and depth texels can be uploaded
 // straight from the mapping.
 constexpr std::uint64_t kCacheSectionAlignment = 16;
@@ -49,13 +51,17 @@ struct CacheParams {
     std::uint32_t directions = 0;  // horizon directions N_d
     std::uint32_t steps = 0;       // march steps N_s
     float hybridThreshold = 0.0f;
+    // File coordinates of the scene's local origin (Scene::origin: whole units rounded to float, so exact
+    // here); probe positions in the table are local, file coordinates = position + origin. 0 for scenes
+    // that were not re-centred (and for every format-1 file).
+    glm::vec3 origin{0.0f};
 
     bool operator==(const CacheParams&) const = default;
 };
 
 // Every range problem of `p` at once (empty: valid). Limits: res 4..16384 and a multiple of 4,
 // depthRes 1..16384, a known depth format, estimator ≤ 3, falloff ≤ 1, radius finite and > 0,
-// hybridThreshold finite.
+// hybridThreshold finite, origin finite.
 std::vector<std::string> cacheParamProblems(const CacheParams& p);
 // Fields that differ between `a` and `b`, "res 8 vs 16" style; empty when a == b.
 std::vector<std::string> cacheParamDifferences(const CacheParams& a, const CacheParams& b);

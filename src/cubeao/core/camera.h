@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/ext/vector_double3.hpp>
 #include <glm/vec3.hpp>
 
 namespace cubeao {
@@ -18,6 +19,9 @@ struct CameraFrame {
 
 struct CameraPath {
     std::string scene;  // informative: the model the path was made for
+    // File coordinates of the point the frames' eyes and targets are relative to: the scene's origin
+    // (scene.h, Scene::origin) once the path is read against a scene, 0 for a path near its file's origin.
+    glm::dvec3 origin{0.0};
     glm::vec3 up{0.0f, 1.0f, 0.0f};
     float fovYDeg = 60.0f;
     int width = 1280;

@@ -4,11 +4,13 @@
 
 #include <spdlog/spdlog.h>
 
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -96,6 +98,11 @@ const char* debugTypeName(GLenum type) {
 
 // Errors (and anything the driver calls high severity) are bugs: error level. Performance hints are
 // frequent and driver specific: debug level. Notifications are filtered out before they get here.
+// GL_DEBUG_TYPE_ERROR messages so far (debugErrorCount); the driver may call from its own thread.
+std::atomic<std::size_t> debugErrors{0};
+std::mutex firstDebugErrorMutex;
+std::string firstDebugErrorText;
+
 void APIENTRY onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei length,
                              const GLchar* message, const void* /*user*/) {
     if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
@@ -110,6 +117,10 @@ void APIENTRY onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum sever
              type == GL_DEBUG_TYPE_DEPRECATED_BEHAVIOR || type == GL_DEBUG_TYPE_PORTABILITY)
         level = spdlog::level::warn;
     spdlog::log(level, "GL {} #{}: {}", debugTypeName(type), id, text);
+    if (type == GL_DEBUG_TYPE_ERROR && debugErrors.fetch_add(1) == 0) {
+        const std::lock_guard<std::mutex> lock(firstDebugErrorMutex);
+        firstDebugErrorText = "GL error #" + std::to_string(id) + ": " + text;
+    }
 }
 
 // ---- one display ------------------------------------------------------------------------------
@@ -255,6 +266,13 @@ std::optional<EglPlatform> requestedPlatform(const ContextSettings& settings, st
 
 }  // namespace
 
+std::size_t debugErrorCount() { return debugErrors.load(); }
+
+std::string firstDebugError() {
+    const std::lock_guard<std::mutex> lock(firstDebugErrorMutex);
+    return firstDebugErrorText;
+}
+
 void installDebugOutput(bool debugContext) {
     glEnable(GL_DEBUG_OUTPUT);
     // Synchronous delivery logs a message before the offending call returns, so the log lines up with
@@ -331,7 +349,7 @@ std::optional<HeadlessContext> HeadlessContext::tryCreate(std::string* whyNot, c
 HeadlessContext HeadlessContext::create(const ContextSettings& settings) {
     std::string why;
     if (auto ctx = tryCreate(&why, settings)) return std::move(*ctx);
-    throw Error(why);
+    throw Error("no OpenGL 4.5 context (" + why + ")");
 }
 
 HeadlessContext::~HeadlessContext() { destroy(); }

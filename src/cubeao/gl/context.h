@@ -10,6 +10,7 @@
 
 #include "cubeao/gl/gl.h"
 
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -71,6 +72,12 @@ private:
 // Routes GL debug output of the current context to spdlog (errors → error, performance → debug;
 // notifications and the shader compiler's own messages off). Called for every context we create.
 void installDebugOutput(bool debugContext);
+
+// GL errors (GL_DEBUG_TYPE_ERROR) the debug output of any context reported since the process started,
+// and the first one's text ("GL error #ID: MESSAGE"; "" for none). A command that ends with errors
+// fails with the first (tools/cubeao/main.cpp) rather than report results computed after one.
+std::size_t debugErrorCount();
+std::string firstDebugError();
 
 // Parses CUBEAO_EGL_PLATFORM-style text ("device", "surfaceless"); nullopt for anything else.
 std::optional<EglPlatform> parseEglPlatform(const std::string& text);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -47,8 +48,11 @@ bool isPragmaOnce(const std::string& line) {
 }
 
 std::string readFile(const fs::path& path) {
+    errno = 0;
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error("cannot read shader file " + path.string());
+    // The cause too (missing, unreadable): shaders are read at run time from CUBEAO_SHADER_DIR or the
+    // build's copy, so a bad install shows up here.
+    if (!in) throw Error("cannot read shader file " + path.string() + ": " + (errno ? std::strerror(errno) : "open failed"));
     std::ostringstream text;
     text << in.rdbuf();
     return text.str();

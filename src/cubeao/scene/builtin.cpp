@@ -78,4 +78,12 @@ CameraPath resolveCameraPath(const std::string& cameraArg, const std::string& sc
     throw UsageError("--camera PATH.json is required for " + sceneSpec + " (only built-in scenes have a default path)");
 }
 
+CameraPath resolveCameraPath(const std::string& cameraArg, const Scene& scene) {
+    // A file is read against the origin directly (its doubles never pass through float file coordinates).
+    CameraPath path = !cameraArg.empty() && !isBuiltinSpec(cameraArg) ? readCameraPath(cameraArg, scene.origin)
+                                                                       : resolveCameraPath(cameraArg, scene.source);
+    rebaseCameraPath(path, scene.origin);
+    return path;
+}
+
 }  // namespace cubeao

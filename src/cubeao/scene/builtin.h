@@ -29,5 +29,8 @@ CameraPath builtinCameraPath(const std::string& spec);  // the scene's own short
 // The camera path a command should use: the file `cameraArg`, or "builtin:NAME", or, when `cameraArg`
 // is empty and the scene is built in, the scene's own path. Error when neither applies.
 CameraPath resolveCameraPath(const std::string& cameraArg, const std::string& sceneSpec);
+// The same for a loaded scene, with the frames relative to scene.origin (camera path files hold file
+// coordinates; the scene is local): the one place where a command's camera path meets its scene.
+CameraPath resolveCameraPath(const std::string& cameraArg, const Scene& scene);
 
 }  // namespace cubeao

@@ -16,15 +16,23 @@ namespace {
 
 using nlohmann::json;
 
-glm::vec3 readVec3(const json& j, const std::string& where) {
+// Read in double and made relative to `origin` there, so a point 10^5 units out keeps its digits.
+glm::vec3 readVec3(const json& j, const std::string& where, const glm::dvec3& origin = glm::dvec3(0.0)) {
     if (!j.is_array() || j.size() != 3) throw Error(where + " must be an array of 3 numbers");
     glm::vec3 v;
     for (int i = 0; i < 3; ++i) {
         if (!j[i].is_number()) throw Error(where + " must be an array of 3 numbers");
-        v[i] = j[i].get<float>();
+        v[i] = float(j[i].get<double>() - origin[i]);
         if (!std::isfinite(v[i])) throw Error(where + " is not finite");
     }
     return v;
+}
+
+// A point relative to `origin` back in file coordinates, as JSON: plain floats when the origin is zero
+// (the file reads as it always did), doubles otherwise.
+json fileVec3(const glm::vec3& v, const glm::dvec3& origin) {
+    if (origin == glm::dvec3(0.0)) return {v.x, v.y, v.z};
+    return {double(v.x) + origin.x, double(v.y) + origin.y, double(v.z) + origin.z};
 }
 
 template <class T>
@@ -36,7 +44,7 @@ T readOptional(const json& j, const char* key, T fallback, const std::string& sr
 
 }  // namespace
 
-CameraPath parseCameraPath(const std::string& text, const std::string& src) {
+CameraPath parseCameraPath(const std::string& text, const std::string& src, const glm::dvec3& origin) {
     json j;
     try {
         j = json::parse(text);
@@ -45,6 +53,7 @@ CameraPath parseCameraPath(const std::string& text, const std::string& src) {
     }
     if (!j.is_object()) throw Error(src + ": a camera path must be a JSON object");
     CameraPath p;
+    p.origin = origin;
     if (j.contains("scene") && j["scene"].is_string()) p.scene = j["scene"].get<std::string>();
     if (j.contains("up")) p.up = readVec3(j["up"], src + ": \"up\"");
     if (glm::length(p.up) == 0.0f) throw Error(src + ": \"up\" is the zero vector");
@@ -64,7 +73,7 @@ CameraPath parseCameraPath(const std::string& text, const std::string& src) {
         const std::string where = src + ": frames[" + std::to_string(i) + "]";
         if (!f.is_object() || !f.contains("eye") || !f.contains("target"))
             throw Error(where + " needs \"eye\" and \"target\"");
-        CameraFrame frame{readVec3(f["eye"], where + ".eye"), readVec3(f["target"], where + ".target")};
+        CameraFrame frame{readVec3(f["eye"], where + ".eye", origin), readVec3(f["target"], where + ".target", origin)};
         const glm::vec3 fwd = frame.target - frame.eye;
         if (glm::length(fwd) == 0.0f) throw Error(where + ": eye and target coincide");
         if (glm::length(glm::cross(glm::normalize(fwd), p.up)) < 1e-6f)
@@ -74,18 +83,28 @@ CameraPath parseCameraPath(const std::string& text, const std::string& src) {
     return p;
 }
 
-CameraPath readCameraPath(const std::filesystem::path& file) {
+CameraPath readCameraPath(const std::filesystem::path& file, const glm::dvec3& origin) {
     std::ifstream in(file);
     if (!in) throw Error(file.string() + ": cannot open camera path");
     std::stringstream ss;
     ss << in.rdbuf();
-    return parseCameraPath(ss.str(), file.string());
+    return parseCameraPath(ss.str(), file.string(), origin);
+}
+
+void rebaseCameraPath(CameraPath& path, const glm::dvec3& origin) {
+    if (path.origin == origin) return;
+    const glm::dvec3 shift = path.origin - origin;
+    for (CameraFrame& f : path.frames) {
+        f.eye = glm::vec3(glm::dvec3(f.eye) + shift);
+        f.target = glm::vec3(glm::dvec3(f.target) + shift);
+    }
+    path.origin = origin;
 }
 
 void writeCameraPath(const std::filesystem::path& file, const CameraPath& p) {
     json frames = json::array();
     for (const auto& f : p.frames)
-        frames.push_back({{"eye", {f.eye.x, f.eye.y, f.eye.z}}, {"target", {f.target.x, f.target.y, f.target.z}}});
+        frames.push_back({{"eye", fileVec3(f.eye, p.origin)}, {"target", fileVec3(f.target, p.origin)}});
     const json j = {{"scene", p.scene},   {"up", {p.up.x, p.up.y, p.up.z}}, {"fov_y_deg", p.fovYDeg},
                     {"width", p.width},   {"height", p.height},          {"near", p.nearPlane},
                     {"far", p.farPlane},  {"frames", frames}};

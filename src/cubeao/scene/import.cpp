@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -16,11 +17,13 @@
 #include <assimp/LogStream.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <glm/common.hpp>
 #include <spdlog/spdlog.h>
 
 #include "cubeao/core/error.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/header_counts.h"
+#include "cubeao/scene/stl_binary.h"
 #include "cubeao/scene/repair.h"
 #include "cubeao/scene/soup_importer.h"
 
@@ -56,14 +59,42 @@ bool isTextMesh(const fs::path& path, const std::string& ext) {
     return head.rfind("solid", 0) == 0 && head.find("facet") != std::string::npos;  // ASCII STL
 }
 
-// Returns the number of OBJ `v` lines (0 for other formats).
-std::size_t scanTextMesh(const fs::path& path, const std::string& ext) {
+// What scanTextMesh found besides problems.
+struct TextScan {
+    std::size_t objVertexLines = 0;  // OBJ `v` lines (0 for other formats)
+    // The OBJ `v` lines' first three numbers, parsed as doubles: OpenMesh's readers parse into float
+    // (9.0, every format, even a PLY `property double`), which georeferenced models cannot afford
+    // (Scene::origin). Empty when a line has fewer than three numbers (the reader's error wins then).
+    std::vector<glm::dvec3> objVertices;
+};
+
+// The first three whitespace-separated numbers of `words` as doubles; false when there are not three.
+bool readThreeDoubles(std::istream& words, glm::dvec3& out) {
+    std::string token;
+    for (int k = 0; k < 3; ++k) {
+        if (!(words >> token)) return false;
+        char* end = nullptr;
+        out[k] = std::strtod(token.c_str(), &end);
+        if (end == token.c_str() || *end != '\0') return false;
+    }
+    return true;
+}
+
+TextScan scanTextMesh(const fs::path& path, const std::string& ext) {
     std::ifstream in(path);
     std::string line, token;
-    std::size_t lineNo = 0, vertexLines = 0;
+    std::size_t lineNo = 0;
+    TextScan scan;
+    bool objCoordinates = ext == ".obj";
     while (std::getline(in, line)) {
         ++lineNo;
-        if (ext == ".obj" && line.rfind("v ", 0) == 0) ++vertexLines;
+        if (ext == ".obj" && line.rfind("v ", 0) == 0) {
+            ++scan.objVertexLines;
+            std::istringstream words(line.substr(2));
+            glm::dvec3 v;
+            if (objCoordinates && readThreeDoubles(words, v)) scan.objVertices.push_back(v);
+            else objCoordinates = false;
+        }
         // A face corner without a vertex index ("f /1/1 ...") trips an assertion in OpenMesh's OBJ
         // reader, which Debian builds with assertions on: an abort (found by tests/fuzz/fuzz_mesh.cpp).
         if (ext == ".obj") {
@@ -90,11 +121,56 @@ std::size_t scanTextMesh(const fs::path& path, const std::string& ext) {
                 throw Error(path.string() + ":" + std::to_string(lineNo) + ": non-finite number '" + token + "'");
         }
     }
-    return vertexLines;
+    if (!objCoordinates) scan.objVertices.clear();
+    return scan;
+}
+
+// A text OFF file's vertex coordinates as doubles (see TextScan::objVertices): the first three numbers of
+// each of the header's vertex count of lines after the counts, '#' comments and blank lines skipped.
+// Only for the keywords whose vertex lines start with x y z ([ST][C][N]OFF); empty for anything else
+// (4OFF, nOFF, BINARY) or when a line does not parse, and the reader's floats are used instead.
+std::vector<glm::dvec3> offVertices(const fs::path& path) {
+    std::ifstream in(path);
+    std::string line;
+    auto nextLine = [&](std::istringstream& words) {
+        while (std::getline(in, line)) {
+            line = line.substr(0, line.find('#'));
+            if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+            words.clear();
+            words.str(line);
+            return true;
+        }
+        return false;
+    };
+    std::istringstream words;
+    std::string keyword;
+    if (!nextLine(words) || !(words >> keyword)) return {};
+    const std::size_t off = keyword.rfind("OFF");
+    if (off == std::string::npos || off + 3 != keyword.size() ||
+        keyword.substr(0, off).find_first_not_of("STCN") != std::string::npos)
+        return {};
+    long long count = -1;
+    if (!(words >> count)) {
+        std::string rest;
+        words.clear();
+        if (words >> rest) return {};  // "OFF BINARY" and the like
+        if (!nextLine(words) || !(words >> count)) return {};
+    }
+    if (count <= 0) return {};
+    std::vector<glm::dvec3> vertices;
+    for (long long i = 0; i < count; ++i) {
+        glm::dvec3 v;
+        if (!nextLine(words) || !readThreeDoubles(words, v)) return {};
+        vertices.push_back(v);
+    }
+    return vertices;
 }
 
 // OpenMesh's readers (OBJ/PLY/OFF/STL) into a triangle soup. Returns whether the file carried normals.
-bool readWithOpenMesh(const fs::path& path, Scene& scene) {
+// `filePositions` gets each position's file coordinates in double where the file is text OBJ or OFF
+// (one per scene position, split corners included); it stays empty for PLY and STL, whose float
+// coordinates from OpenMesh are all there is (ASCII PLY could be parsed too; not done yet).
+bool readWithOpenMesh(const fs::path& path, Scene& scene, std::vector<glm::dvec3>& filePositions) {
     const std::string ext = lowerExtension(path);
     // A header that claims more elements than the file can hold would make the reader loop (and add
     // vertices) that many times: refused before it starts (header_counts.h).
@@ -108,7 +184,16 @@ bool readWithOpenMesh(const fs::path& path, Scene& scene) {
           << " (truncated or corrupt)";
         throw Error(m.str());
     }
-    const std::size_t objVertexLines = isTextMesh(path, ext) ? scanTextMesh(path, ext) : 0;
+    filePositions.clear();
+    if (ext == ".stl" && isBinaryStl(path)) {  // soups of millions of corners: see stl_binary.h
+        readBinaryStl(path, scene.positions, scene.indices);
+        return false;
+    }
+    const bool text = isTextMesh(path, ext);
+    TextScan scan = text ? scanTextMesh(path, ext) : TextScan{};
+    const std::size_t objVertexLines = scan.objVertexLines;
+    std::vector<glm::dvec3> fileVertices = std::move(scan.objVertices);
+    if (text && ext == ".off") fileVertices = offVertices(path);
     SoupImporter soup;
     OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexNormal;
     omerr().disable();  // it prints per-face chatter; failures are reported below
@@ -119,6 +204,27 @@ bool readWithOpenMesh(const fs::path& path, Scene& scene) {
         throw Error(path.string() + ": " + std::to_string(objVertexLines - soup.fileVertices()) + " of " +
                     std::to_string(objVertexLines) +
                     " vertex lines could not be read (faces would use wrong vertices)");
+    // The doubles are used only where they are the numbers the reader read: each must round to the
+    // reader's float (within one float step: iostream and strtod may round a halfway case apart).
+    filePositions.clear();
+    if (!fileVertices.empty() && fileVertices.size() == soup.fileVertices()) {
+        filePositions.reserve(soup.positions.size());
+        for (std::size_t i = 0; i < soup.positions.size(); ++i) {
+            const glm::dvec3& d = fileVertices[soup.fileVertex[i]];
+            const glm::vec3& f = soup.positions[i];
+            bool same = true;
+            for (int k = 0; k < 3; ++k)
+                same = same && std::fabs(double(float(d[k])) - double(f[k])) <=
+                                   double(std::nextafter(std::fabs(f[k]), INFINITY) - std::fabs(f[k]));
+            if (!same) {
+                spdlog::debug("{}: vertex {} reads as {} {} {} here, {} {} {} by OpenMesh: float coordinates used",
+                              path.string(), soup.fileVertex[i], d.x, d.y, d.z, f.x, f.y, f.z);
+                filePositions.clear();
+                break;
+            }
+            filePositions.push_back(d);
+        }
+    }
     scene.positions = std::move(soup.positions);
     scene.indices = std::move(soup.indices);
     if (soup.hasNormals) scene.normals = std::move(soup.normals);
@@ -139,7 +245,9 @@ private:
     std::vector<std::string>& out_;
 };
 
-// assimp (IFC/glTF/FBX/3DS/DAE): all meshes flattened into world space, triangles only.
+// assimp (IFC/glTF/FBX/3DS/DAE): all meshes flattened into world space, triangles only. Debian's assimp
+// is built with ai_real = float, so its coordinates are floats already (8 mm steps at 10^5 m): re-centring
+// (recentre below) keeps them from losing more in the run time's arithmetic, but cannot restore them.
 bool readWithAssimp(const fs::path& path, Scene& scene) {
     std::vector<std::string> messages;
     Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
@@ -174,6 +282,26 @@ bool readWithAssimp(const fs::path& path, Scene& scene) {
     return allNormals;
 }
 
+// Moves the scene to local coordinates when chooseOrigin says it is far from the file's origin. From the
+// double coordinates when the importer has them (one per position), else from the floats it read (the
+// subtraction of a nearby float-exact origin is exact then, so nothing more is lost). A scene near its
+// file's origin keeps the importer's floats untouched, hence today's positions and hash.
+void recentre(Scene& scene, const std::vector<glm::dvec3>& filePositions) {
+    const bool doubles = !filePositions.empty() && filePositions.size() == scene.positions.size();
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+    for (std::size_t i = 0; i < scene.positions.size(); ++i) {
+        const glm::dvec3 p = doubles ? filePositions[i] : glm::dvec3(scene.positions[i]);
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    scene.origin = chooseOrigin(lo, hi);
+    if (!scene.recentred()) return;
+    for (std::size_t i = 0; i < scene.positions.size(); ++i)
+        scene.positions[i] = scene.toLocal(doubles ? filePositions[i] : glm::dvec3(scene.positions[i]));
+    spdlog::info("{}: far from the file's origin: re-centred on ({}, {}, {}) ({} coordinates)", scene.source,
+                 scene.origin.x, scene.origin.y, scene.origin.z, doubles ? "double" : "float");
+}
+
 }  // namespace
 
 std::vector<std::string> supportedExtensions() {
@@ -192,8 +320,9 @@ Scene loadScene(const std::string& spec) {
     Scene scene;
     scene.source = spec;
     bool hasNormals = false;
+    std::vector<glm::dvec3> filePositions;
     if (contains(kOpenMeshExt, ext)) {
-        hasNormals = readWithOpenMesh(path, scene);
+        hasNormals = readWithOpenMesh(path, scene, filePositions);
     } else if (contains(kAssimpExt, ext)) {
         hasNormals = readWithAssimp(path, scene);
     } else {
@@ -201,6 +330,7 @@ Scene loadScene(const std::string& spec) {
         for (const auto& e : supportedExtensions()) list += (list.empty() ? "" : " ") + e;
         throw Error(spec + ": unknown format '" + ext + "' (supported: " + list + ", or builtin:NAME)");
     }
+    recentre(scene, filePositions);
     prepareScene(scene, hasNormals);
     spdlog::debug("{}: {} triangles, {} vertices", spec, scene.triangleCount(), scene.vertexCount());
     return scene;

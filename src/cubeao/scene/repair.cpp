@@ -1,9 +1,10 @@
 #include "cubeao/scene/repair.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <sstream>
-#include <unordered_map>
 
 #include <glm/geometric.hpp>
 
@@ -14,33 +15,30 @@ namespace {
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-// Key for exact (bitwise) vertex identity: a duplicate is a vertex a file wrote twice, not one that
-// happens to be close (welding nearby vertices would change the geometry and its hash).
-struct VertexKey {
-    float v[6];
-    bool operator==(const VertexKey& o) const { return std::memcmp(v, o.v, sizeof v) == 0; }
-};
-struct VertexKeyHash {
-    std::size_t operator()(const VertexKey& k) const {
-        std::uint32_t bits[6];
-        std::memcpy(bits, k.v, sizeof bits);
-        std::size_t h = 1469598103934665603ull;
-        for (std::uint32_t b : bits) h = (h ^ b) * 1099511628211ull;
-        return h;
-    }
-};
+// Exact (bitwise) vertex identity: a duplicate is a vertex a file wrote twice, not one that happens to
+// be close (welding nearby vertices would change the geometry and its hash). The vertices are sorted
+// by their bits (position, then normal) rather than hashed: a soup of 5 million triangles has 15 million
+// corners, and a hash map of them costs about 1 GB where the sort's order costs 60 MB.
+using VertexBits = std::array<std::uint32_t, 6>;
 
+VertexBits vertexBits(const Scene& s, std::uint32_t i) {
+    VertexBits b;
+    std::memcpy(b.data(), &s.positions[i], sizeof(glm::vec3));
+    std::memcpy(b.data() + 3, &s.normals[i], sizeof(glm::vec3));
+    return b;
+}
+
+// Every vertex maps to the first (lowest-numbered) vertex with the same bits.
 void mergeDuplicates(Scene& s) {
-    std::unordered_map<VertexKey, std::uint32_t, VertexKeyHash> seen;
-    seen.reserve(s.positions.size());
+    std::vector<std::uint32_t> order(s.positions.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return vertexBits(s, a) < vertexBits(s, b); });
     std::vector<std::uint32_t> remap(s.positions.size());
-    for (std::size_t i = 0; i < s.positions.size(); ++i) {
-        VertexKey key{};
-        std::memcpy(key.v, &s.positions[i], sizeof(glm::vec3));
-        std::memcpy(key.v + 3, &s.normals[i], sizeof(glm::vec3));
-        auto [it, inserted] = seen.emplace(key, std::uint32_t(i));
-        remap[i] = it->second;
-        if (!inserted) ++s.problems.duplicateVertices;
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        const bool same = k > 0 && vertexBits(s, order[k - 1]) == vertexBits(s, order[k]);
+        remap[order[k]] = same ? remap[order[k - 1]] : order[k];
+        if (same) ++s.problems.duplicateVertices;
     }
     for (std::uint32_t& idx : s.indices) idx = remap[idx];
 }
@@ -139,6 +137,45 @@ void repairMesh(Scene& s, bool hasNormals) {
     compactVertices(s);
     fixNormals(s, hasNormals);
     finalizeScene(s);
+}
+
+WindingCheck checkWinding(const Scene& s) {
+    // Position ids: vertices at the same position (split only by their normals) are one corner.
+    std::vector<std::uint32_t> order(s.positions.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    auto less = [&](std::uint32_t a, std::uint32_t b) {
+        const glm::vec3 &p = s.positions[a], &q = s.positions[b];
+        return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+    };
+    std::sort(order.begin(), order.end(), less);
+    std::vector<std::uint32_t> id(s.positions.size());
+    std::uint32_t next = 0;
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        if (k > 0 && less(order[k - 1], order[k])) ++next;
+        id[order[k]] = next;
+    }
+    // Each directed edge as (low id, high id, direction bit) in one 64-bit word; equal words after the
+    // sort are one undirected edge, and the direction bits of a pair say whether it is run both ways.
+    std::vector<std::uint64_t> edges;
+    edges.reserve(s.indices.size());
+    for (std::size_t t = 0; t + 2 < s.indices.size(); t += 3)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint64_t a = id[s.indices[t + k]], b = id[s.indices[t + (k + 1) % 3]];
+            if (a == b) continue;
+            edges.push_back((std::min(a, b) << 33) | (std::max(a, b) << 1) | (a < b ? 0u : 1u));
+        }
+    std::sort(edges.begin(), edges.end());
+    WindingCheck w;
+    for (std::size_t i = 0; i < edges.size();) {
+        std::size_t j = i;
+        while (j < edges.size() && (edges[j] >> 1) == (edges[i] >> 1)) ++j;
+        if (j - i == 2) {
+            ++w.sharedEdges;
+            if ((edges[i] & 1u) == (edges[i + 1] & 1u)) ++w.flippedEdges;
+        }
+        i = j;
+    }
+    return w;
 }
 
 void prepareScene(Scene& s, bool hasNormals) {

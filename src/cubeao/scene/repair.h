@@ -19,4 +19,16 @@ void repairMesh(Scene& scene, bool hasNormals);
 // degenerate triangles only, which must be an error too).
 void prepareScene(Scene& scene, bool hasNormals);
 
+// Edges shared by exactly two triangles (vertices compared by position, so corner normals do not split
+// an edge), and how many of them both triangles run in the same direction: a face whose winding is
+// flipped against its neighbour. Rendering and AO use two-sided geometric normals and do not care;
+// placement's inside test (free_space.h: rays that meet the back of a face) does, so `info` and `place`
+// report it. Not part of load: it sorts every edge (O(n log n), about 24 bytes a triangle).
+struct WindingCheck {
+    std::size_t sharedEdges = 0;
+    std::size_t flippedEdges = 0;
+    double flippedShare() const { return sharedEdges ? double(flippedEdges) / double(sharedEdges) : 0.0; }
+};
+WindingCheck checkWinding(const Scene& scene);
+
 }  // namespace cubeao

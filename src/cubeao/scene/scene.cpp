@@ -2,7 +2,9 @@
 
 #include <xxhash.h>
 
+#include <algorithm>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 
 #include <glm/geometric.hpp>
@@ -26,11 +28,16 @@ nlohmann::json SceneProblems::toJson() const {
             {"warnings", warnings}};
 }
 
-std::uint64_t geometryHash(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices) {
+std::uint64_t geometryHash(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
+                           const glm::dvec3& origin) {
     XXH3_state_t* state = XXH3_createState();
     XXH3_64bits_reset(state);
     XXH3_64bits_update(state, positions.data(), positions.size() * sizeof(glm::vec3));
     XXH3_64bits_update(state, indices.data(), indices.size() * sizeof(std::uint32_t));
+    if (origin != glm::dvec3(0.0)) {
+        const double o[3] = {origin.x, origin.y, origin.z};
+        XXH3_64bits_update(state, o, sizeof o);
+    }
     const std::uint64_t h = XXH3_64bits_digest(state);
     XXH3_freeState(state);
     return h;
@@ -39,7 +46,27 @@ std::uint64_t geometryHash(const std::vector<glm::vec3>& positions, const std::v
 void finalizeScene(Scene& scene) {
     scene.bounds = Bounds{};
     for (const glm::vec3& p : scene.positions) scene.bounds.extend(p);
-    scene.hash = geometryHash(scene.positions, scene.indices);
+    scene.hash = geometryHash(scene.positions, scene.indices, scene.origin);
+}
+
+glm::dvec3 chooseOrigin(const glm::dvec3& min, const glm::dvec3& max) {
+    if (!(min.x <= max.x && min.y <= max.y && min.z <= max.z)) return glm::dvec3(0.0);  // empty or NaN
+    const glm::dvec3 c = 0.5 * (min + max);
+    const double far = std::max({std::fabs(c.x), std::fabs(c.y), std::fabs(c.z)});
+    const double diagonal = glm::length(max - min);
+    if (!(far > kRecentreDistance && far > kRecentreDiagonals * diagonal)) return glm::dvec3(0.0);
+    glm::dvec3 o(0.0);
+    for (int i = 0; i < 3; ++i) {
+        // Whole units, then to 24 significant bits (the nearest float, ties away from zero) by scaling with
+        // a power of two. Not double(float(std::round(x))): in this loop g++ 12.2 -O2's SLP vectoriser drops
+        // that float round trip for two of the three components (wrong code, seen in the assembly; fine with
+        // -fno-tree-slp-vectorize), so 5500000022 stayed 5500000022 instead of the float 5500000256.
+        const double r = std::round(c[i]);
+        if (r == 0.0) continue;
+        const double step = std::ldexp(1.0, std::max(0, std::ilogb(r) - 23));
+        o[i] = std::round(r / step) * step;
+    }
+    return o;
 }
 
 std::size_t computeVertexNormals(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <glm/ext/vector_double3.hpp>
 #include <nlohmann/json_fwd.hpp>
 
 namespace cubeao {
@@ -36,7 +37,14 @@ struct SceneProblems {
 
 struct Scene {
     std::string source;                  // file path or "builtin:NAME"
-    std::vector<glm::vec3> positions;    // world space, the file's own units
+    // Georeferenced models (IFC, surveys) sit 10^5..10^6 units from the file's origin, where a float has
+    // 8..60 mm steps. Such a scene is re-centred on import (chooseOrigin): `origin` is the point of the
+    // file's coordinates that local (0, 0, 0) stands for, and everything in memory (positions, bounds,
+    // probes, camera eyes, the .cubeao table) is local = file - origin. Whatever leaves or enters the
+    // program (camera paths, probes.json, the cache header) is in file coordinates. 0 for every scene
+    // near its file's origin, whose positions and hash are then exactly what they were before.
+    glm::dvec3 origin{0.0};
+    std::vector<glm::vec3> positions;    // local: the file's own units, minus `origin`
     std::vector<glm::vec3> normals;      // per vertex, unit length; same size as positions
     std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise
     Bounds bounds;
@@ -45,14 +53,31 @@ struct Scene {
     SceneProblems problems;
 
     std::size_t triangleCount() const { return indices.size() / 3; }
+    bool recentred() const { return origin != glm::dvec3(0.0); }
+    // File coordinates <-> local, the subtraction in double (exact when `p` is near the origin).
+    glm::vec3 toLocal(const glm::dvec3& file) const { return glm::vec3(file - origin); }
+    glm::dvec3 toFile(const glm::vec3& local) const { return glm::dvec3(local) + origin; }
     std::size_t vertexCount() const { return positions.size(); }
     // DESIGN.md §4: the AO radius defaults to 2 % of the bounding-box diagonal.
     float defaultRadius() const { return 0.02f * bounds.diagonal(); }
 };
 
-// 64-bit xxHash (XXH3) over the position bytes, then the index bytes. Identifies the geometry a
-// probe cache was baked for, so it must not depend on normals, file name or load order of anything else.
-std::uint64_t geometryHash(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices);
+// 64-bit xxHash (XXH3) over the position bytes, then the index bytes, then, only when it is not zero,
+// the origin's three doubles (a model and its copy moved by a whole number of units have the same
+// local positions, but not the same place: a cache baked for one must not pass for the other).
+// Identifies the geometry a probe cache was baked for, so it must not depend on normals, file name or
+// load order of anything else.
+std::uint64_t geometryHash(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
+                           const glm::dvec3& origin = glm::dvec3(0.0));
+
+// The origin a model with file-coordinate bounds [min, max] is re-centred on: zero, unless the bounds'
+// centre c is both beyond kRecentreDistance and farther than kRecentreDiagonals diagonals from the file's
+// origin (only then does re-centring gain precision worth a different hash: a 100 m building 20 km out
+// has 2 mm float steps, one at 100 km 8 mm). Then c rounded to whole units and to the nearest float, so
+// the offset is exact in float and double and local coordinates are exact differences of nearby numbers.
+inline constexpr double kRecentreDistance = 16384.0;  // 2^14: float steps of 1/512 unit (2 mm in metres)
+inline constexpr double kRecentreDiagonals = 4.0;
+glm::dvec3 chooseOrigin(const glm::dvec3& min, const glm::dvec3& max);
 
 // Recomputes bounds and hash from the arrays (call after any change to positions/indices).
 void finalizeScene(Scene& scene);

@@ -18,6 +18,10 @@ class SoupImporter final : public OpenMesh::IO::BaseImporter {
 public:
     std::vector<glm::vec3> positions, normals;  // normals: one per vertex when the file had them
     std::vector<std::uint32_t> indices;          // polygons fan-triangulated
+    // Per position: the file vertex (in add_vertex order) it is, or copies after a corner split. The
+    // readers parse coordinates into float; import.cpp puts its own double parse of the file back through
+    // this map (georeferenced models, Scene::origin).
+    std::vector<std::uint32_t> fileVertex;
     std::size_t faces = 0;                       // polygons as the file wrote them
     bool hasNormals = false;
 
@@ -34,6 +38,7 @@ public:
     using Status = OpenMesh::Attributes::StatusInfo;
 
     VH add_vertex(const Vec3f& p) override {
+        fileVertex.push_back(std::uint32_t(fileVertices()));
         positions.emplace_back(p[0], p[1], p[2]);
         normals.emplace_back(0.0f);
         return VH(int(positions.size() - 1));
@@ -60,6 +65,7 @@ public:
         if (normalSet_.size() < normals.size()) normalSet_.resize(normals.size(), false);
         if (normalSet_[i] && normals[i] != normal) {
             positions.push_back(positions[i]);
+            fileVertex.push_back(fileVertex[i]);
             normals.push_back(normal);
             normalSet_.push_back(true);
             cornerSplit_[vh.idx()] = int(positions.size() - 1);
