@@ -1,18 +1,23 @@
 #!/bin/bash
-# The robustness tests of everything that reads files or blocks it did not write (the .cubeao reader
-# with every truncation and byte flip, the BC5 and distance-cube decoders, the bake's cache writer,
-# placement and its CGAL geometry on hand-made meshes, the candidate grid and its live updates, the
-# viewer's script parser)
-# under AddressSanitizer + UndefinedBehaviorSanitizer, leak checking on. GL tests are left out: Mesa
-# leaks a few hundred bytes per EGL display, which is not ours to fix.
+# The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer (issue 15), leak checking on:
+# every test ctest knows, GL tests on llvmpipe and the CLI's child processes included (they run the
+# sanitized `cubeao` of the same build). Optimised (-O2, line tables only) so that the suite fits CI's
+# time: a Debug build ran CGAL and the bakes some 30 times slower than Release.
+# Mesa: tests/CMakeLists.txt preloads its driver into the tests (see there); what Mesa, LLVM and X11
+# still leak by themselves is suppressed by library in tools/lsan.supp, not by turning detection off.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/install-deps.sh
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DCUBEAO_SANITIZE=ON >/dev/null
-cmake --build build-asan -j2 --target cubeao_tests cubeao_viewer_tests
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ./build-asan/tests/cubeao_tests \
-  --gtest_filter='CacheFile.*:BcDecode.*:BcEncode.*:BcCube.*:BcBakedProbe.*:DepthCube.*:BakeCacheWriter.*:BakeSettingsCache.*:BakeEncode.*:SolidGeometry.*:Placement.*:ProbeGrid.*:ProbeGridLive.*'
-# The viewer's script parser reads files people write by hand.
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ./build-asan/tests/cubeao_viewer_tests --gtest_filter='ViewerScript.*'
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1" \
+  -DCUBEAO_SANITIZE=ON -DCUBEAO_HEADER_CHECK=OFF >/dev/null
+cmake --build build-asan -j2
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export LSAN_OPTIONS=suppressions=$PWD/tools/lsan.supp:print_suppressions=0
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+cd build-asan
+# The viewer's window tests need an X server, as in tools/test.sh.
+if [ -z "${DISPLAY:-}" ] && command -v xvfb-run >/dev/null; then
+  xvfb-run -a -s "-screen 0 640x480x24" ctest --output-on-failure -j2 --timeout 1200
+else
+  ctest --output-on-failure -j2 --timeout 1200
+fi
