@@ -198,6 +198,19 @@ TEST(CameraPathParse, NumberTooBigForADoubleIsAnError) {
     EXPECT_TRUE(contains(msg, "huge.json")) << msg;
 }
 
+// fuzz_camera_path: "height": 3.6e71 went through nlohmann's get<int>(), a float-to-int overflow
+// (undefined behaviour). Sizes must be whole numbers an int holds; other settings finite floats.
+TEST(CameraPathParse, SizesMustBeWholeNumbersAnIntHolds) {
+    const std::string frames = R"("frames": [{"eye": [0, 0, 0], "target": [1, 0, 0]}])";
+    for (const char* bad : {R"("height": 3.6e71)", R"("width": 64.5)", R"("width": -1e300)", R"("height": 2147483648)"}) {
+        const std::string msg = errorMessage([&] { parseCameraPath("{" + std::string(bad) + ", " + frames + "}", "size.json"); });
+        EXPECT_TRUE(contains(msg, "size.json") && contains(msg, "whole number")) << bad << ": " << msg;
+    }
+    const std::string msg = errorMessage([&] { parseCameraPath(R"({"far": 1e300, )" + frames + "}", "far.json"); });
+    EXPECT_TRUE(contains(msg, "far.json") && contains(msg, "finite")) << msg;
+    EXPECT_EQ(parseCameraPath(R"({"width": 640.0, )" + frames + "}", "ok.json").width, 640);
+}
+
 // ---- files ---------------------------------------------------------------------------------------
 
 TEST(CameraPathFile, WriteThenReadRoundTrips) {

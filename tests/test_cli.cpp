@@ -193,6 +193,8 @@ TEST(Cli, BakeRejectsBadInput) {
     EXPECT_EQ(run("bake builtin:box-room --probes " + good + out + " --shard 2/2").code, 2);
     EXPECT_EQ(run("bake builtin:box-room --probes " + good + out + " --device tpu").code, 2);
     EXPECT_EQ(run("bake builtin:box-room --probes " + dir.write("v2.json", R"({"version":2,"probes":[]})") + out).code, 1);
+    // 2^32 + 1: read as an int it wrapped to version 1 and passed.
+    EXPECT_EQ(run("bake builtin:box-room --probes " + dir.write("v-wrap.json", R"({"version":4294967297,"probes":[{"pos":[3,1.4,2.5]}]})") + out).code, 1);
     EXPECT_EQ(run("bake builtin:box-room --probes " + dir.write("nan.json", R"({"version":1,"probes":[{"pos":[1,"x",2]}]})") + out).code, 1);
     EXPECT_EQ(run("bake builtin:box-room --probes " + (dir.path() / "missing.json").string() + out).code, 1);
 }

@@ -23,7 +23,7 @@ std::vector<ProbeSpec> readProbeSet(const std::filesystem::path& file, const glm
     const std::string where = file.string() + ": ";
     if (!j.is_object() || !j.contains("version") || !j["version"].is_number_integer())
         throw Error(where + "expected an object with an integer \"version\"");
-    if (j["version"].get<int>() != 1)
+    if (j["version"] != 1)  // compared as numbers: get<int>() would wrap 4294967297 to 1
         throw Error(where + "probe-set version " + j["version"].dump() + " is not supported (this build reads version 1)");
     if (!j.contains("probes") || !j["probes"].is_array()) throw Error(where + "expected a \"probes\" array");
     std::vector<ProbeSpec> probes;

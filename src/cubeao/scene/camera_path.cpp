@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -35,11 +37,23 @@ json fileVec3(const glm::vec3& v, const glm::dvec3& origin) {
     return {double(v.x) + origin.x, double(v.y) + origin.y, double(v.z) + origin.z};
 }
 
+// Read as a double and range-checked before the conversion: nlohmann's get<int>() of 3.6e71 is a
+// float-to-int overflow, undefined behaviour (found by fuzz_camera_path).
 template <class T>
 T readOptional(const json& j, const char* key, T fallback, const std::string& src) {
     if (!j.contains(key)) return fallback;
     if (!j[key].is_number()) throw Error(src + ": \"" + key + "\" must be a number");
-    return j[key].get<T>();
+    const double v = j[key].get<double>();
+    if constexpr (std::is_integral_v<T>) {
+        if (!(v >= double(std::numeric_limits<T>::min()) && v <= double(std::numeric_limits<T>::max())) ||
+            v != std::floor(v))
+            throw Error(src + ": \"" + key + "\" must be a whole number in the range of a " +
+                        std::to_string(sizeof(T) * 8) + "-bit integer (got " + j[key].dump() + ")");
+    } else {
+        if (!std::isfinite(v) || std::fabs(v) > double(std::numeric_limits<T>::max()))
+            throw Error(src + ": \"" + key + "\" must be a finite number (got " + j[key].dump() + ")");
+    }
+    return T(v);
 }
 
 }  // namespace
