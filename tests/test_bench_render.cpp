@@ -102,7 +102,9 @@ TEST_F(GlTest, BenchRenderSyntheticSweepUnderABudget) {
 
     const CliRun again = runCli(args);
     ASSERT_EQ(again.code, 0) << again.out;
-    for (const nlohmann::json& s : lastLine(again.out)["sweep"])
+    // Named: in `for (x : lastLine(...)["sweep"])` the parsed object died before the loop (ASan).
+    const nlohmann::json second = lastLine(again.out);
+    for (const nlohmann::json& s : second["sweep"])
         EXPECT_TRUE(s["cache_reused"].get<bool>()) << s["probes"] << ": the kept cache is read again";
     fs::remove_all(dir);
 }
