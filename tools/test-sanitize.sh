@@ -1,5 +1,5 @@
 #!/bin/bash
-# The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer (issue 15), leak checking on:
+# The test suite under AddressSanitizer + UndefinedBehaviorSanitizer (issue 15), leak checking on:
 # every test ctest knows, GL tests on llvmpipe and the CLI's child processes included (they run the
 # sanitized `cubeao` of the same build). Optimised (-O2, line tables only) so that the suite fits CI's
 # time: a Debug build ran CGAL and the bakes some 30 times slower than Release.
@@ -15,9 +15,13 @@ export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export LSAN_OPTIONS=suppressions=$PWD/tools/lsan.supp:print_suppressions=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 cd build-asan
+# All but the four parts of CliRobustness (info on each of assimp-testmodels' 595 files in a child
+# process): 37 % of the sanitized time for what the plain run checks already and fuzz_mesh covers
+# under the sanitizers; it keeps CI near 50 minutes.
+skip=(-E 'CliRobustness')
 # The viewer's window tests need an X server, as in tools/test.sh.
 if [ -z "${DISPLAY:-}" ] && command -v xvfb-run >/dev/null; then
-  xvfb-run -a -s "-screen 0 640x480x24" ctest --output-on-failure -j2 --timeout 1200
+  xvfb-run -a -s "-screen 0 640x480x24" ctest --output-on-failure -j2 --timeout 1200 "${skip[@]}"
 else
-  ctest --output-on-failure -j2 --timeout 1200
+  ctest --output-on-failure -j2 --timeout 1200 "${skip[@]}"
 fi
