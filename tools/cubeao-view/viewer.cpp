@@ -228,11 +228,7 @@ Viewer::Viewer(const ViewerOptions& o) : o_(o) {
     if (!(o.bakeMsPerFrame > 0.0 && o.bakeMsPerFrame <= 1000.0)) throw UsageError("--bake-ms must lie in (0, 1000]");
     if (o.liveRes < 4 || o.liveRes > 2048 || o.liveRes % 4) throw UsageError("--live-res must be a multiple of 4 in [4, 2048]");
     if (!(o.coverageTarget > 0.0 && o.coverageTarget <= 1.0)) throw UsageError("--coverage-target must lie in (0, 1]");
-    // As `cubeao render`'s: a negative MiB count would wrap to a huge size_t budget.
-    if (!(o.gpuBudgetMb >= 0.0 && o.gpuBudgetMb <= 1024.0 * 1024.0))
-        throw UsageError("--gpu-budget-mb must lie in [0, 1048576] (0 = every probe resident)");
-    if (!(o.uploadMb >= 0.0 && o.uploadMb <= 65536.0))
-        throw UsageError("--upload-mb must lie in [0, 65536] (0 = the default, 8)");
+    cli::checkResidencyOptions(o.gpuBudgetMb, o.uploadMb);  // a negative MiB count would wrap to a huge budget
     const auto mode = parseViewMode(o.mode);
     if (!mode) throw UsageError("--mode \"" + o.mode + "\": not a view mode");
     mode_ = *mode;
@@ -298,8 +294,7 @@ void Viewer::loadInputs() {
 
 void Viewer::buildPipelines() {
     ProbeProjectionSettings settings;
-    settings.residency.gpuBudgetBytes = std::size_t(o_.gpuBudgetMb * 1024.0 * 1024.0);
-    settings.residency.uploadBytesPerFrame = std::size_t(o_.uploadMb * 1024.0 * 1024.0);
+    settings.residency = cli::residencySettings(o_.gpuBudgetMb, o_.uploadMb);
     std::unique_ptr<AoPass> method;
     if (cache_) {
         method = cli::makeAoPass(ssao_, cache_.get(), scene_, settings, true);

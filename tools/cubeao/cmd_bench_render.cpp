@@ -69,7 +69,6 @@ struct RenderBenchArgs {
 
 constexpr double kFlatSpread = 0.2;  // issue 6: frame cost flat within 20 % over the sweep
 constexpr double kResidentRatio = 1.1;  // issue 13: each count's frame within 10 % of the smallest count's
-constexpr double kMib = 1024.0 * 1024.0;
 
 // Every usage error at once, before anything is loaded.
 void checkUsage(const RenderBenchArgs& a) {
@@ -88,10 +87,7 @@ void checkUsage(const RenderBenchArgs& a) {
     for (const std::size_t n : a.probes)
         if (std::string p = rangeProblem("--probes: every count", n, std::size_t(1), std::size_t(100'000)); !p.empty())
             problems.push_back(std::move(p));
-    if (!(a.gpuBudgetMb >= 0.0 && a.gpuBudgetMb <= 1024.0 * 1024.0))
-        problems.push_back("--gpu-budget-mb must lie in [0, 1048576] (0 = every probe resident)");
-    if (!(a.uploadMb >= 0.0 && a.uploadMb <= 65536.0))
-        problems.push_back("--upload-mb must lie in [0, 65536] (0 = the default, 8)");
+    for (std::string& p : residencyOptionProblems(a.gpuBudgetMb, a.uploadMb)) problems.push_back(std::move(p));
     if (problems.empty()) return;
     std::string text = problems[0];
     for (std::size_t i = 1; i < problems.size(); ++i) text += "; " + problems[i];
@@ -344,8 +340,7 @@ struct Bench {
         gtao.radius = cache->params().radius;
         gtao = resolveSsaoSettings(gtao, scene.defaultRadius());
         ProbeProjectionSettings settings;
-        settings.residency.gpuBudgetBytes = std::size_t(args.gpuBudgetMb * kMib);
-        settings.residency.uploadBytesPerFrame = std::size_t(args.uploadMb * kMib);
+        settings.residency = residencySettings(args.gpuBudgetMb, args.uploadMb);
         std::unique_ptr<AoPass> pass;
         // Prep: the candidate grid (reads the probes' distances), the first residency pool, compile.
         const double prepMs = gl::timeGpu([&] { pass = makeAoPass(gtao, cache.get(), scene, settings, true); }).wallMs;

@@ -66,8 +66,6 @@ struct PassSettings {
     ProbeProjectionSettings probes;
 };
 
-constexpr double kMib = 1024.0 * 1024.0;
-
 // Every usage error, before any file is read.
 PassSettings usageChecked(const RenderArgs& a) {
     PassSettings p;
@@ -86,15 +84,10 @@ PassSettings usageChecked(const RenderArgs& a) {
     if (!(a.alpha >= 0.0f && a.alpha <= 1.0f)) throw UsageError("--alpha must lie in [0, 1]");
     if (!a.cache.empty() && a.method != "probes")
         spdlog::warn("render: --cache is used only by --method probes; ignored for {}", a.method);
-    // Budgets: 1 TiB is beyond any GPU made; the lower bound is checked against the cache once it is read.
-    if (!(a.gpuBudgetMb >= 0.0 && a.gpuBudgetMb <= 1024.0 * 1024.0))
-        throw UsageError("--gpu-budget-mb must lie in [0, 1048576] (0 = every probe resident)");
-    if (!(a.uploadMb >= 0.0 && a.uploadMb <= 65536.0))
-        throw UsageError("--upload-mb must lie in [0, 65536] (0 = the default, 8)");
+    checkResidencyOptions(a.gpuBudgetMb, a.uploadMb);
     if (a.fallback != "gtao" && a.fallback != "none")
         throw UsageError("--fallback \"" + a.fallback + "\": expected gtao or none");
-    p.probes.residency.gpuBudgetBytes = std::size_t(a.gpuBudgetMb * kMib);
-    p.probes.residency.uploadBytesPerFrame = std::size_t(a.uploadMb * kMib);
+    p.probes.residency = residencySettings(a.gpuBudgetMb, a.uploadMb);
     return p;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <sys/resource.h>
@@ -19,6 +20,26 @@
 #include "cubeao/ssao/ssao_pass.h"
 
 namespace cubeao::cli {
+
+// --gpu-budget-mb and --upload-mb, MiB, as `render`, `bench render` and cubeao-view take them: their
+// problems (empty: both fine; 1 TiB is beyond any GPU made, the lower bound is checked against the cache
+// once it is read), and the ResidencySettings they give.
+inline std::vector<std::string> residencyOptionProblems(double gpuBudgetMb, double uploadMb) {
+    std::vector<std::string> problems;
+    if (!(gpuBudgetMb >= 0.0 && gpuBudgetMb <= 1024.0 * 1024.0))
+        problems.push_back("--gpu-budget-mb must lie in [0, 1048576] (0 = every probe resident)");
+    if (!(uploadMb >= 0.0 && uploadMb <= 65536.0))
+        problems.push_back("--upload-mb must lie in [0, 65536] (0 = the default, 8)");
+    return problems;
+}
+inline void checkResidencyOptions(double gpuBudgetMb, double uploadMb) {
+    if (const auto problems = residencyOptionProblems(gpuBudgetMb, uploadMb); !problems.empty())
+        throw UsageError(problems.front());
+}
+inline ResidencySettings residencySettings(double gpuBudgetMb, double uploadMb) {
+    constexpr double kMib = 1024.0 * 1024.0;
+    return {std::size_t(gpuBudgetMb * kMib), std::size_t(uploadMb * kMib)};
+}
 
 // The method as a pass from the camera G-buffer to raw AO; blur and composite are shared. With a
 // cache: the probe projection (grid over the scene's bounds, residency per `probes`), its uncovered

@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <system_error>
 
@@ -65,23 +66,26 @@ std::vector<std::uint32_t> sameBakeIndices(const fs::path& file, const CachePara
     return indices;
 }
 
-// The process id in the name of a temporary file writeCache leaves when killed before its rename:
-// ".OUT.tmp-PID-RANDOM" for the output, ".OUT.part-NNNNNN.tmp-PID-RANDOM" for a part (TempFile,
-// cache_file.cpp). 0 when `name` is not one of those for the output named `outName`.
+// The number of the part file `name` when it is one of `prefix` ("OUT.part-"): partPath writes at least
+// 6 digits (%06zu), part 1,000,000 on more; past 18 it is not ours (and std::stoul would overflow).
+std::optional<std::size_t> partNumber(const std::string& name, const std::string& prefix) {
+    const std::size_t digitCount = name.size() - std::min(name.size(), prefix.size());
+    if (digitCount < 6 || digitCount > 18 || name.compare(0, prefix.size(), prefix) != 0) return std::nullopt;
+    const std::string digits = name.substr(prefix.size());
+    if (digits.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+    return std::stoul(digits);
+}
+
+// The writer's process id when `name` is the temporary file of a writeCache for the output `outName` or
+// for one of its parts (temporaryCacheWriter); 0 otherwise.
 pid_t tempFileOwner(const std::string& name, const std::string& outName) {
     const std::string prefix = "." + outName;
     if (name.compare(0, prefix.size(), prefix) != 0) return 0;
-    std::string rest = name.substr(prefix.size());
-    if (rest.compare(0, 6, ".part-") == 0) {
-        const std::size_t end = rest.find_first_not_of("0123456789", 6);
-        if (end == 6 || end == std::string::npos) return 0;
-        rest = rest.substr(end);
-    }
-    if (rest.compare(0, 5, ".tmp-") != 0) return 0;
-    const std::size_t dash = rest.find('-', 5);
-    const std::string pid = rest.substr(5, dash == std::string::npos ? std::string::npos : dash - 5);
-    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) return 0;
-    return pid_t(std::stol(pid));
+    const std::size_t tmp = name.find(".tmp-", prefix.size());
+    if (tmp == std::string::npos) return 0;
+    const std::string target = name.substr(1, tmp - 1);
+    if (target != outName && !partNumber(target, outName + ".part-")) return 0;
+    return pid_t(temporaryCacheWriter(name, target));
 }
 
 double msSince(std::chrono::steady_clock::time_point start) {
@@ -131,13 +135,8 @@ void BakeCacheWriter::adoptParts(std::span<const ProbeSpec> probes, const std::s
                              e.path().string(), owner);
             continue;
         }
-        // partPath writes at least 6 digits (%06zu): part 1,000,000 on has more; past 18, not ours
-        // (and std::stoul would overflow).
-        const std::size_t digitCount = name.size() - std::min(name.size(), prefix.size());
-        if (digitCount < 6 || digitCount > 18 || name.compare(0, prefix.size(), prefix) != 0) continue;
-        const std::string digits = name.substr(prefix.size());
-        if (digits.find_first_not_of("0123456789") != std::string::npos) continue;
-        found.emplace_back(std::stoul(digits), path_.has_parent_path() ? e.path() : fs::path(name));
+        if (const auto n = partNumber(name, prefix))
+            found.emplace_back(*n, path_.has_parent_path() ? e.path() : fs::path(name));
     }
     std::sort(found.begin(), found.end());
     for (const auto& [n, part] : found) {

@@ -120,6 +120,10 @@ std::uint64_t hashProbe(std::span<const std::uint8_t> ao, std::span<const std::u
 
 // ---- writing ----------------------------------------------------------------------------------------
 
+// ".TARGET.tmp-": hidden, and named after the target so a leftover is recognisable (temporaryCacheWriter).
+std::string temporaryPrefix(const std::string& target) { return "." + target + ".tmp-"; }
+
+
 // A uniquely named file beside the target, removed on destruction unless it was renamed into place.
 // Created with open(O_EXCL, 0666) rather than mkstemp so the cache gets the usual umask permissions.
 class TempFile {
@@ -128,9 +132,8 @@ public:
         const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
         std::random_device rd;
         for (int attempt = 0; attempt < 100; ++attempt) {
-            std::string name = ".";  // hidden, and named after the target so a leftover is recognisable
-            name += target.filename().string();
-            name += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(rd());
+            const std::string name = temporaryPrefix(target.filename().string()) + std::to_string(::getpid()) + "-" +
+                                     std::to_string(rd());
             path_ = dir / name;
             fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
             if (fd_ >= 0) return;
@@ -311,6 +314,15 @@ PositionKey positionKey(const glm::vec3& p) {
 }
 
 }  // namespace
+
+long temporaryCacheWriter(const std::string& name, const std::string& target) {
+    const std::string prefix = temporaryPrefix(target);
+    if (name.compare(0, prefix.size(), prefix) != 0) return 0;
+    const std::size_t dash = name.find('-', prefix.size());
+    const std::string pid = name.substr(prefix.size(), dash == std::string::npos ? std::string::npos : dash - prefix.size());
+    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) return 0;
+    return std::stol(pid);
+}
 
 // ---- parameters and sizes -----------------------------------------------------------------------------
 

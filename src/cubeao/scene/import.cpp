@@ -206,7 +206,6 @@ bool readWithOpenMesh(const fs::path& path, Scene& scene, std::vector<glm::dvec3
                     " vertex lines could not be read (faces would use wrong vertices)");
     // The doubles are used only where they are the numbers the reader read: each must round to the
     // reader's float (within one float step: iostream and strtod may round a halfway case apart).
-    filePositions.clear();
     if (!fileVertices.empty() && fileVertices.size() == soup.fileVertices()) {
         filePositions.reserve(soup.positions.size());
         for (std::size_t i = 0; i < soup.positions.size(); ++i) {
