@@ -5,6 +5,7 @@
 
 #include "commands.h"
 #include "cubeao/cache/cache_file.h"
+#include "cubeao/core/progress.h"
 
 namespace cubeao::cli {
 namespace {
@@ -16,7 +17,14 @@ struct MergeArgs {
 };
 
 void run(const MergeArgs& a) {
-    mergeCaches(a.out, std::vector<std::filesystem::path>(a.inputs.begin(), a.inputs.end()));
+    std::size_t total = 0;  // for the progress: the inputs' probes (headers only; checked again in the merge)
+    for (const std::string& in : a.inputs) total += CacheReader(in).probeCount();
+    {
+        Progress progress("merge", total, "probes");
+        WriteOptions options;
+        options.progress = &progress;
+        mergeCaches(a.out, std::vector<std::filesystem::path>(a.inputs.begin(), a.inputs.end()), options);
+    }
     const CacheReader merged(a.out);
     std::printf("merge: %zu caches, %zu probes -> %s (%.4f bytes per texel)\n", a.inputs.size(), merged.probeCount(),
                 a.out.c_str(), merged.bytesPerTexel());

@@ -3,6 +3,7 @@
 // same way; probes.json records the method, its parameters, the report and each probe's gain.
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -57,10 +58,11 @@ void run(PlaceArgs a) {
 
     placement::Placement result;
     if (m == "voting") {
-        Progress progress("place voting", 0);
+        // The greedy adds probes until the budget or the coverage target: the budget is the most there can be.
+        Progress progress("place voting", std::uint64_t(std::max(a.settings.budget, 0)), "probes");
         result = placement::placeVoting(ps, &progress);
     } else if (m == "grid") {
-        Progress progress("place grid", 0);
+        Progress progress("place grid", 0, "spacings");
         result = placement::placeGrid(ps, &progress);
     } else if (m == "coverage") {
         // The frame counts run on the GPU when a GL 4.5 context can be made (asynchronously: frames
@@ -78,7 +80,7 @@ void run(PlaceArgs a) {
                 std::printf("place: no OpenGL 4.5 context (%s): counting frames on the CPU\n", whyNot.c_str());
             }
         }
-        Progress progress("place coverage", path->frames.size());
+        Progress progress("place coverage", path->frames.size(), "frames");
         result = placement::placeCoverage(ps, *path, {}, &progress, gpu.get());
     } else {
         std::vector<glm::vec3> positions;

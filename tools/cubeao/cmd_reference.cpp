@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 struct ReferenceArgs {
     std::string scene, camera, out, frames, falloff = "none";
-    int spp = 64, replicas = 2, width = 0, height = 0;
+    int spp = 64, replicas = 2, aa = 1, width = 0, height = 0;
     float radius = 0.0f;
     std::uint32_t seed = 0;
     bool json = false;
@@ -32,11 +32,16 @@ void run(const ReferenceArgs& a) {
     // Ranges first, before the scene loads and --out is created (issue 15: absurd values cost nothing).
     checkRange("--spp", a.spp, 1, 65536);
     checkRange("--replicas", a.replicas, 1, 64);
+    checkRange("--aa", a.aa, 1, 16);
     checkFiniteNonNegative("--radius", a.radius, " (0: 2% of the scene's diagonal)");
     checkImageSizeOptions(a.width, a.height);
     // Also checked by renderReferenceFrame.
     if (a.spp % a.replicas != 0)
         throw UsageError("--replicas " + std::to_string(a.replicas) + " must divide --spp " + std::to_string(a.spp));
+    if (a.spp % (a.aa * a.aa * a.replicas) != 0)
+        throw UsageError("--aa " + std::to_string(a.aa) + ": --spp " + std::to_string(a.spp) +
+                         " must be a multiple of aa² × replicas = " + std::to_string(a.aa * a.aa * a.replicas) +
+                         " (each of the aa² primary rays traces spp/aa² AO rays)");
     const Scene scene = loadScene(a.scene);
     const CameraPath path = resolveCameraPath(a.camera, scene);
     const FrameRange range = parseFrameRange(a.frames, path.frames.size());
@@ -46,8 +51,9 @@ void run(const ReferenceArgs& a) {
     resolveImageSize(a.width, a.height, path, w, h);
     fs::create_directories(a.out);
 
-    spdlog::info("reference: {} ({} triangles), frames {}:{} at {}x{}, {} spp in {} replicas, R = {}", scene.source,
-                 scene.triangleCount(), range.begin, range.end, w, h, settings.spp, a.replicas, settings.radius);
+    spdlog::info("reference: {} ({} triangles), frames {}:{} at {}x{}, {} spp in {} replicas, {}x{} primary rays per "
+                 "pixel, R = {}", scene.source, scene.triangleCount(), range.begin, range.end, w, h, settings.spp,
+                 a.replicas, a.aa, a.aa, settings.radius);
     const auto t0 = std::chrono::steady_clock::now();
     const EmbreeScene rt(scene);
     const double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -55,14 +61,14 @@ void run(const ReferenceArgs& a) {
     nlohmann::json frames = nlohmann::json::array();
     double traceSeconds = 0.0, noiseSum = 0.0;
     std::uint64_t rays = 0;
-    Progress progress("reference", std::uint64_t(range.size()) * std::uint64_t(w) * std::uint64_t(h));
+    Progress progress("reference", std::uint64_t(range.size()) * std::uint64_t(w) * std::uint64_t(h), "pixels");
     for (std::size_t f = range.begin; f < range.end; ++f) {
         const auto start = std::chrono::steady_clock::now();
         const ReferenceFrame frame =
-            renderReferenceFrame(rt, PinholeCamera(path, f, w, h), settings, std::uint32_t(f), &progress, a.replicas);
+            renderReferenceFrame(rt, PinholeCamera(path, f, w, h), settings, std::uint32_t(f), &progress, a.replicas, a.aa);
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         traceSeconds += secs;
-        rays += frame.aoRays + std::uint64_t(w) * std::uint64_t(h);
+        rays += frame.aoRays + std::uint64_t(w) * std::uint64_t(h) * std::uint64_t(a.aa * a.aa);
         noiseSum += frame.noise;
         const fs::path exr = fs::path(a.out) / frameName("ao", f, "exr");
         writeExr(exr, frame.ao);
@@ -77,6 +83,7 @@ void run(const ReferenceArgs& a) {
                              {"radius", settings.radius},
                              {"spp", settings.spp},
                              {"replicas", a.replicas},
+                             {"aa", a.aa},
                              {"noise_estimate", a.replicas > 1 ? "replicas" : "independent_rays_bound"},
                              {"falloff", falloffName(settings.falloff)},
                              {"seed", settings.seed},
@@ -107,6 +114,10 @@ void addReference(CLI::App& app) {
     cmd->add_option("--replicas", a->replicas,
                     "Split each pixel's rays into this many independently rotated sets; their spread measures "
                     "the noise (1: report the independent-ray bound instead). 1..64, must divide --spp")
+        ->capture_default_str();
+    cmd->add_option("--aa", a->aa,
+                    "N: N×N jittered primary rays per pixel, box-filtered, as offline renderers do (1: the pixel "
+                    "centre, as `render` samples; compare render against that). 1..16")
         ->capture_default_str();
     cmd->add_option("--radius", a->radius, "AO radius R in scene units (default: 2% of the bbox diagonal)");
     cmd->add_option("--falloff", a->falloff, "none | smooth")->capture_default_str();

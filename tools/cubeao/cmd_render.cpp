@@ -164,7 +164,7 @@ void run(const RenderArgs& a) {
     nlohmann::json frames = nlohmann::json::array();
     std::vector<PassTimings> timings;
     double fetches = 0.0;
-    Progress progress("render", range.size());
+    Progress progress("render", range.size(), "frames");
     for (std::size_t f = range.begin; f < range.end; ++f) {
         const RenderedFrame frame = renderer.render(frameView(path, f, w, h), std::uint32_t(f));
         fetches += renderer.method().fetchesPerPixel();

@@ -97,7 +97,7 @@ BakeResult bakeProbes(ProbeBaker& baker, const BakeJob& job, ProbeSink& sink) {
 
     if (!todo.empty()) baker.prepare();  // not in the first probe's time
     std::optional<Progress> progress;
-    if (!job.progressLabel.empty()) progress.emplace(job.progressLabel, todo.size());
+    if (!job.progressLabel.empty()) progress.emplace(job.progressLabel, todo.size(), "probes");
     for (const std::uint32_t index : todo) {
         const glm::vec3 position = job.probes[index].position;
         const Clock::time_point start = Clock::now();

@@ -22,6 +22,7 @@
 #include <utility>
 
 #include "cubeao/core/error.h"
+#include "cubeao/core/progress.h"
 
 namespace cubeao {
 namespace {
@@ -444,6 +445,7 @@ void writeCache(const std::filesystem::path& path, const CacheParams& params, st
             sink.write(v.aoConfidence);
             sink.write(v.depth);
             sink.zeros(stride - aoSize - depthSize);
+            if (options.progress) options.progress->advance();
         }
         sink.finish();
     }

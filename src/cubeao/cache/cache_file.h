@@ -17,6 +17,8 @@
 
 namespace cubeao {
 
+class Progress;
+
 // Newest format this build writes and reads (docs/FORMAT.md "Versioning"). Format 2 adds the scene's
 // origin (CacheParams::origin); a cache whose origin is 0 is still written as format 1, byte for byte
 // what earlier builds wrote and can read.
@@ -99,6 +101,8 @@ struct WriteOptions {
     // Called after the temporary file is complete and fsynced, right before the rename: a test
     // throws here to stand for a crash between write and rename.
     std::function<void()> beforeRename;
+    // Advanced once per probe written (merge's progress); may be null.
+    Progress* progress = nullptr;
 };
 
 // The temporary file writeCache writes beside a target named `target` is ".TARGET.tmp-PID-RANDOM": the

@@ -19,9 +19,11 @@ PinholeCamera::PinholeCamera(const CameraPath& path, std::size_t frame, int w, i
     tanHalfFovY = std::tan(glm::radians(path.fovYDeg) * 0.5f);
 }
 
-glm::vec3 PinholeCamera::rayDirection(int x, int y) const {
+glm::vec3 PinholeCamera::rayDirection(int x, int y) const { return rayDirectionAt(float(x) + 0.5f, float(y) + 0.5f); }
+
+glm::vec3 PinholeCamera::rayDirectionAt(float x, float y) const {
     // The view-space ray of the run time's passes (view space looks down −z), turned into the world.
-    const glm::vec3 r = kernel::cameraPixelRay({width, height}, tanHalfFovY, {float(x) + 0.5f, float(y) + 0.5f});
+    const glm::vec3 r = kernel::cameraPixelRay({width, height}, tanHalfFovY, {x, y});
     return glm::normalize(forward + r.x * right + r.y * up);
 }
 

@@ -42,6 +42,9 @@ struct PinholeCamera {
     PinholeCamera(const CameraPath& path, std::size_t frame, int width, int height);
     // Unit direction through the centre of pixel (x, y); y = 0 is the top row.
     glm::vec3 rayDirection(int x, int y) const;
+    // Unit direction through image position (x, y) in pixels: (0, 0) the top-left corner of the image,
+    // (x + 0.5, y + 0.5) the centre of pixel (x, y).
+    glm::vec3 rayDirectionAt(float x, float y) const;
 };
 
 }  // namespace cubeao

@@ -52,7 +52,13 @@ struct ReferenceFrame {
 // standard error sqrt(mean(s²/K)) over the pixels that show geometry: measured, not bounded, and by
 // Jensen's inequality at least the mean standard error. With K = 1, `noise` is the mean of the
 // independent-ray bound. settings.spp must be a multiple of K.
+//
+// Anti-aliasing (`aa` = N ≥ 2, `reference --aa N`): N×N stratified primary rays per pixel, each jittered
+// inside its cell of the pixel, box-filtered, as offline renderers (Blender Cycles) make their images;
+// each sub-sample traces spp/N² AO rays (spp must be a multiple of N²·K), so a pixel still costs spp AO
+// rays; sub-samples that see no geometry count as open (1). With N = 1 the primary ray goes through the
+// pixel centre, as the run time's G-buffer does: the image to compare `render` against.
 ReferenceFrame renderReferenceFrame(const EmbreeScene& scene, const PinholeCamera& camera, const AoSettings& settings,
-                                    std::uint32_t frameIndex, Progress* progress, int replicas = 1);
+                                    std::uint32_t frameIndex, Progress* progress, int replicas = 1, int aa = 1);
 
 }  // namespace cubeao

@@ -32,12 +32,37 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> kOpenMeshExt = {".obj", ".ply", ".off", ".stl"};
-const std::vector<std::string> kAssimpExt = {".ifc", ".gltf", ".glb", ".fbx", ".3ds", ".dae"};
-
 bool contains(const std::vector<std::string>& v, const std::string& s) {
     return std::find(v.begin(), v.end(), s) != v.end();
 }
+
+const std::vector<std::string> kOpenMeshExt = {".obj", ".ply", ".off", ".stl"};
+
+// What the installed assimp reads (issue 17): asked of the library, not a list kept here, so a newer
+// assimp brings its formats with it. OBJ/PLY/OFF/STL stay with OpenMesh (double-precision OBJ/OFF, the
+// header checks and the binary STL reader of this layer).
+const std::vector<std::string>& assimpExtensions() {
+    static const std::vector<std::string> list = [] {
+        std::string joined;  // "*.3ds;*.3mf;*.ac;..."
+        Assimp::Importer().GetExtensionList(joined);
+        std::vector<std::string> out;
+        std::size_t start = 0;
+        while (start <= joined.size()) {
+            std::size_t end = joined.find(';', start);
+            if (end == std::string::npos) end = joined.size();
+            std::string ext = joined.substr(start, end - start);
+            if (ext.rfind("*", 0) == 0) ext.erase(0, 1);
+            std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+            if (ext.size() > 1 && ext[0] == '.' && !contains(kOpenMeshExt, ext) && !contains(out, ext))
+                out.push_back(ext);
+            start = end + 1;
+        }
+        std::sort(out.begin(), out.end());
+        return out;
+    }();
+    return list;
+}
+
 
 std::string lowerExtension(const fs::path& p) {
     std::string ext = p.extension().string();
@@ -244,7 +269,7 @@ private:
     std::vector<std::string>& out_;
 };
 
-// assimp (IFC/glTF/FBX/3DS/DAE): all meshes flattened into world space, triangles only. Debian's assimp
+// assimp (IFC, glTF, FBX, DXF, X3D, 3MF, ... whatever the installed assimp reads): all meshes flattened into world space, triangles only. Debian's assimp
 // is built with ai_real = float, so its coordinates are floats already (8 mm steps at 10^5 m): re-centring
 // (recentre below) keeps them from losing more in the run time's arithmetic, but cannot restore them.
 bool readWithAssimp(const fs::path& path, Scene& scene) {
@@ -305,7 +330,7 @@ void recentre(Scene& scene, const std::vector<glm::dvec3>& filePositions) {
 
 std::vector<std::string> supportedExtensions() {
     std::vector<std::string> all = kOpenMeshExt;
-    all.insert(all.end(), kAssimpExt.begin(), kAssimpExt.end());
+    all.insert(all.end(), assimpExtensions().begin(), assimpExtensions().end());
     return all;
 }
 
@@ -322,7 +347,7 @@ Scene loadScene(const std::string& spec) {
     std::vector<glm::dvec3> filePositions;
     if (contains(kOpenMeshExt, ext)) {
         hasNormals = readWithOpenMesh(path, scene, filePositions);
-    } else if (contains(kAssimpExt, ext)) {
+    } else if (contains(assimpExtensions(), ext)) {
         hasNormals = readWithAssimp(path, scene);
     } else {
         std::string list;
