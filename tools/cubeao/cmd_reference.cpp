@@ -32,7 +32,7 @@ void run(const ReferenceArgs& a) {
     // Ranges first, before the scene loads and --out is created (issue 15: absurd values cost nothing).
     checkRange("--spp", a.spp, 1, 65536);
     checkRange("--replicas", a.replicas, 1, 64);
-    checkRange("--aa", a.aa, 1, 16);
+    checkRange("--aa", a.aa, 1, 64);
     checkFiniteNonNegative("--radius", a.radius, " (0: 2% of the scene's diagonal)");
     checkImageSizeOptions(a.width, a.height);
     // Also checked by renderReferenceFrame.
@@ -117,7 +117,7 @@ void addReference(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--aa", a->aa,
                     "N: N×N jittered primary rays per pixel, box-filtered, as offline renderers do (1: the pixel "
-                    "centre, as `render` samples; compare render against that). 1..16")
+                    "centre, as `render` samples; compare render against that). 1..64")
         ->capture_default_str();
     cmd->add_option("--radius", a->radius, "AO radius R in scene units (default: 2% of the bbox diagonal)");
     cmd->add_option("--falloff", a->falloff, "none | smooth")->capture_default_str();

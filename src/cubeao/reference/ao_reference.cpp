@@ -103,9 +103,12 @@ ReferenceFrame renderReferenceFrame(const EmbreeScene& scene, const PinholeCamer
                     }
                     continue;
                 }
-                // N×N cells, one jittered primary ray in each, box filter. The spread of a mean of
-                // independent sub-samples: variances add and divide by (N²)²; standard errors in quadrature.
-                double sum = 0.0, spreadSum = 0.0;
+                // N×N cells, one jittered primary ray in each, box filter. The pixel's spread: with
+                // replicas, the replica variances of independent sub-samples add and divide by (N²)²; with
+                // one replica, the standard error of the mean of the N² sub-sample values (their sample
+                // variance / N²: an independent-sample bound, like the one-replica bound above, and
+                // defined when a sub-sample traces a single AO ray).
+                double sum = 0.0, sumSq = 0.0, replicaSpread = 0.0;
                 int hits = 0;
                 for (int s = 0; s < subSamples; ++s) {
                     const std::uint32_t subKey = sampling::hashKey(key, std::uint32_t(s), 0xaa5eedu);
@@ -115,15 +118,21 @@ ReferenceFrame renderReferenceFrame(const EmbreeScene& scene, const PinholeCamer
                     if (sample(float(x) + (float(s % aa) + jx) / float(aa), float(y) + (float(s / aa) + jy) / float(aa),
                                subKey, ao, err)) {
                         ++hits;
-                        spreadSum += replicas == 1 ? double(err) * err : double(err);
+                        replicaSpread += double(err);
                     } else {
                         ++background.local();
                     }
                     sum += ao;
+                    sumSq += double(ao) * ao;
                 }
-                out.ao.pixels[i] = float(sum / subSamples);
-                const double n2 = double(subSamples) * double(subSamples);
-                spread[i] = float(replicas == 1 ? std::sqrt(spreadSum / n2) : spreadSum / n2);
+                const double mean = sum / subSamples;
+                out.ao.pixels[i] = float(mean);
+                if (replicas == 1) {
+                    const double variance = std::max(0.0, (sumSq - sum * mean) / (subSamples - 1));
+                    spread[i] = float(std::sqrt(variance / subSamples));
+                } else {
+                    spread[i] = float(replicaSpread / (double(subSamples) * double(subSamples)));
+                }
                 if (hits == 0) ++emptyPixels.local();
             }
         if (progress) progress->advance(std::uint64_t(r.rows().size()) * std::uint64_t(r.cols().size()));

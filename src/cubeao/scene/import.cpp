@@ -1,9 +1,14 @@
 #include "cubeao/scene/import.h"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -269,10 +274,11 @@ private:
     std::vector<std::string>& out_;
 };
 
-// assimp (IFC, glTF, FBX, DXF, X3D, 3MF, ... whatever the installed assimp reads): all meshes flattened into world space, triangles only. Debian's assimp
-// is built with ai_real = float, so its coordinates are floats already (8 mm steps at 10^5 m): re-centring
-// (recentre below) keeps them from losing more in the run time's arithmetic, but cannot restore them.
-bool readWithAssimp(const fs::path& path, Scene& scene) {
+// assimp (IFC, glTF, FBX, DXF, X3D, 3MF, ... whatever the installed assimp reads): all meshes flattened
+// into world space, triangles only. Debian's assimp is built with ai_real = float, so its coordinates are
+// floats already (8 mm steps at 10^5 m): re-centring (recentre below) keeps them from losing more in the
+// run time's arithmetic, but cannot restore them. In this process: readWithAssimp runs it in a child.
+bool readWithAssimpHere(const fs::path& path, Scene& scene) {
     std::vector<std::string> messages;
     Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
     auto* collector = new WarningCollector(messages);  // owned by the logger until detached
@@ -304,6 +310,133 @@ bool readWithAssimp(const fs::path& path, Scene& scene) {
     }
     scene.problems.warnings = std::move(messages);
     return allNormals;
+}
+
+// ---- assimp in a child process ------------------------------------------------------------------
+// Some of assimp's importers crash on files they should refuse (5.2.5 on assimp-testmodels:
+// OpenGEX/collada.ogex aborts, RAW/WithTexture.raw dereferences null): a crash would end the whole
+// command (a viewer, a bake) instead of naming the file. So the import runs in a forked child that sends
+// the triangles back through a pipe; a child that dies by a signal is an error naming the file.
+
+void writeAll(int fd, const void* data, std::size_t size) {
+    const auto* p = static_cast<const char*>(data);
+    while (size > 0) {
+        const ssize_t n = ::write(fd, p, size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) _exit(3);  // the parent went away: nothing to report to
+        p += n;
+        size -= std::size_t(n);
+    }
+}
+
+template <typename T>
+void writeArray(int fd, const std::vector<T>& v) {
+    const std::uint64_t n = v.size();
+    writeAll(fd, &n, sizeof n);
+    writeAll(fd, v.data(), n * sizeof(T));
+}
+
+void writeString(int fd, const std::string& s) {
+    const std::uint64_t n = s.size();
+    writeAll(fd, &n, sizeof n);
+    writeAll(fd, s.data(), n);
+}
+
+// Reads what the child wrote; throws when the message ends early (the child died mid-way).
+class MessageReader {
+public:
+    MessageReader(const std::string& bytes, std::string what) : bytes_(bytes), what_(std::move(what)) {}
+    template <typename T>
+    T value() {
+        T v;
+        take(&v, sizeof v);
+        return v;
+    }
+    template <typename T>
+    std::vector<T> array() {
+        const auto n = value<std::uint64_t>();
+        if (n > (bytes_.size() - at_) / sizeof(T)) throw Error(what_ + ": the importer's answer is cut short");
+        std::vector<T> v(n);
+        take(v.data(), n * sizeof(T));
+        return v;
+    }
+    std::string string() {
+        const auto chars = array<char>();
+        return std::string(chars.begin(), chars.end());
+    }
+
+private:
+    void take(void* out, std::size_t n) {
+        if (n > bytes_.size() - at_) throw Error(what_ + ": the importer's answer is cut short");
+        std::memcpy(out, bytes_.data() + at_, n);
+        at_ += n;
+    }
+    const std::string& bytes_;
+    std::string what_;
+    std::size_t at_ = 0;
+};
+
+bool readWithAssimp(const fs::path& path, Scene& scene) {
+    int fds[2];
+    if (::pipe(fds) != 0) throw Error(path.string() + ": cannot start the importer: " + std::strerror(errno));
+    std::fflush(nullptr);  // nothing buffered is written twice
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+        ::close(fds[0]);
+        ::close(fds[1]);
+        throw Error(path.string() + ": cannot start the importer: " + std::strerror(errno));
+    }
+    if (pid == 0) {
+        // The child: import, answer, _exit (no destructors or atexit handlers of the parent's state).
+        ::close(fds[0]);
+        try {
+            Scene child;
+            const bool normals = readWithAssimpHere(path, child);
+            const std::uint8_t ok = 0, withNormals = normals ? 1 : 0;
+            writeAll(fds[1], &ok, 1);
+            writeAll(fds[1], &withNormals, 1);
+            writeArray(fds[1], child.positions);
+            writeArray(fds[1], child.normals);
+            writeArray(fds[1], child.indices);
+            const std::uint64_t warnings = child.problems.warnings.size();
+            writeAll(fds[1], &warnings, sizeof warnings);
+            for (const std::string& w : child.problems.warnings) writeString(fds[1], w);
+        } catch (const std::exception& e) {
+            const std::uint8_t failed = 1;
+            writeAll(fds[1], &failed, 1);
+            writeString(fds[1], e.what());
+        }
+        ::close(fds[1]);
+        _exit(0);
+    }
+    ::close(fds[1]);
+    std::string bytes;
+    char buf[1 << 16];
+    for (;;) {
+        const ssize_t n = ::read(fds[0], buf, sizeof buf);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        bytes.append(buf, std::size_t(n));
+    }
+    ::close(fds[0]);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (WIFSIGNALED(status))
+        throw Error(path.string() + ": assimp crashed reading it (" + strsignal(WTERMSIG(status)) +
+                    "): a damaged file, or one this assimp mishandles");
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || bytes.empty())
+        throw Error(path.string() + ": the assimp importer ended without an answer (exit " +
+                    std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
+    MessageReader in(bytes, path.string());
+    if (in.value<std::uint8_t>() != 0) throw Error(in.string());
+    const bool normals = in.value<std::uint8_t>() != 0;
+    scene.positions = in.array<glm::vec3>();
+    scene.normals = in.array<glm::vec3>();
+    scene.indices = in.array<std::uint32_t>();
+    const auto warnings = in.value<std::uint64_t>();
+    for (std::uint64_t w = 0; w < warnings; ++w) scene.problems.warnings.push_back(in.string());
+    return normals;
 }
 
 // Moves the scene to local coordinates when chooseOrigin says it is far from the file's origin. From the
