@@ -14,6 +14,7 @@ void addCompare(CLI::App& app);
 void addPlace(CLI::App& app);
 void addBake(CLI::App& app);
 void addMerge(CLI::App& app);
+void addExport(CLI::App& app);
 void addBench(CLI::App& app);
 void addRender(CLI::App& app);
 // `bench` subcommands in files of their own, registered by addBench on the `bench` subcommand.

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
     cubeao::cli::addPlace(app);
     cubeao::cli::addBake(app);
     cubeao::cli::addMerge(app);
+    cubeao::cli::addExport(app);
     cubeao::cli::addCompare(app);
     cubeao::cli::addBench(app);
     cubeao::cli::addRender(app);

@@ -1,0 +1,280 @@
+// cubeao export CACHE.cubeao --format dds|ktx2 --out DIR [--ao bc5|bc4] [--distance native|float] [--json]:
+// every probe of a cache as two cube-map files engines and texture tools read directly (issue 17), AO
+// (+ confidence) and the distance cube, plus DIR/manifest.json: what each file holds, where each probe
+// is in file coordinates, and the bake parameters. The BC blocks are copied, never re-encoded, and
+// need no flip or reorder (cache/texture_export.h says why).
+//
+// Nothing half-written is left behind: every file is written into a staging directory inside DIR
+// (".cubeao-export.tmp-PID-RANDOM", removed on any failure), fsynced, and only when all of them are
+// complete renamed into DIR, manifest.json last. A DIR with a manifest therefore holds every file the
+// manifest names; files of an earlier export into DIR are replaced one by one, each atomically.
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <random>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "cubeao/bake/bake_settings.h"
+#include "cubeao/cache/cache_file.h"
+#include "cubeao/cache/texture_export.h"
+#include "cubeao/core/error.h"
+#include "cubeao/core/falloff.h"
+#include "cubeao/core/progress.h"
+#include "cubeao/scene/scene.h"
+
+namespace cubeao::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using texport::TexelFormat;
+
+constexpr int kManifestVersion = 1;
+// The manifest keeps the order fields are written in (nlohmann::json would sort them).
+using Ordered = nlohmann::ordered_json;
+
+struct ExportArgs {
+    std::string cache, format = "dds", out, ao = "bc5", distance = "native";
+    bool json = false;
+};
+
+std::string systemError() { return std::strerror(errno); }
+
+// The files of one export, staged in a hidden directory inside DIR until all are written.
+class Staging {
+public:
+    explicit Staging(const fs::path& dir) : dir_(dir) {
+        std::error_code ec;
+        if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+            throw Error(dir.string() + ": cannot export there: it exists and is not a directory");
+        createdDir_ = fs::create_directories(dir, ec);
+        if (ec) throw Error(dir.string() + ": cannot create the output directory: " + ec.message());
+        std::random_device rd;
+        for (int attempt = 0; attempt < 100; ++attempt) {
+            stage_ = dir / (".cubeao-export.tmp-" + std::to_string(::getpid()) + "-" + std::to_string(rd()));
+            if (::mkdir(stage_.c_str(), 0777) == 0) return;
+            if (errno != EEXIST) break;
+        }
+        const std::string why = systemError();
+        cleanup();
+        throw Error(dir.string() + ": cannot write into the output directory: " + why);
+    }
+    ~Staging() {
+        if (!committed_) cleanup();
+    }
+    Staging(const Staging&) = delete;
+    Staging& operator=(const Staging&) = delete;
+
+    // Writes `name` into the staging directory: complete and fsynced, or an Error naming it.
+    void write(const std::string& name, std::span<const std::uint8_t> bytes) {
+        const fs::path p = stage_ / name;
+        const int fd = ::open(p.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0) fail(name, "create");
+        std::size_t done = 0;
+        while (done < bytes.size()) {
+            const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) {
+                const int e = n < 0 ? errno : EIO;
+                ::close(fd);
+                errno = e;
+                fail(name, "write");
+            }
+            done += std::size_t(n);
+        }
+        if (::fsync(fd) != 0) {
+            const int e = errno;
+            ::close(fd);
+            errno = e;
+            fail(name, "fsync");
+        }
+        if (::close(fd) != 0) fail(name, "close");
+        names_.push_back(name);
+        bytes_ += bytes.size();
+    }
+
+    // Renames every staged file into DIR in the order written (the manifest last), then syncs DIR.
+    void commit() {
+        for (const std::string& name : names_)
+            if (::rename((stage_ / name).c_str(), (dir_ / name).c_str()) != 0) fail(name, "rename into place");
+        committed_ = true;
+        std::error_code ec;
+        fs::remove(stage_, ec);
+        if (const int fd = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); fd >= 0) {
+            ::fsync(fd);  // the renames are durable; a failure here loses nothing already renamed
+            ::close(fd);
+        }
+    }
+
+    std::uint64_t bytes() const { return bytes_; }
+
+private:
+    [[noreturn]] void fail(const std::string& name, const char* what) const {
+        throw Error((dir_ / name).string() + ": cannot export: " + what + ": " + systemError());
+    }
+    void cleanup() {
+        std::error_code ec;
+        if (!stage_.empty()) fs::remove_all(stage_, ec);
+        if (createdDir_) fs::remove(dir_, ec);  // only when still empty: remove() refuses otherwise
+    }
+
+    fs::path dir_, stage_;
+    std::vector<std::string> names_;
+    std::uint64_t bytes_ = 0;
+    bool createdDir_ = false, committed_ = false;
+};
+
+// The trailing XXH3-64 of the cache (docs/FORMAT.md "File checksum"), after verifyAll() matched it.
+std::uint64_t fileChecksum(const CacheReader& cache) {
+    std::ifstream in(cache.path(), std::ios::binary);
+    in.seekg(std::streamoff(cache.fileSize() - 8));
+    std::uint8_t b[8] = {};
+    in.read(reinterpret_cast<char*>(b), 8);
+    if (in.gcount() != 8) throw Error(cache.path().string() + ": cannot read the file checksum");
+    std::uint64_t v = 0;
+    for (int k = 7; k >= 0; --k) v = v << 8 | b[k];
+    return v;
+}
+
+Ordered formatJson(TexelFormat f, std::uint32_t res) {
+    const texport::FormatCodes& c = texport::formatCodes(f);
+    return {{"format", c.name}, {"dxgi_format", c.dxgi}, {"vk_format", c.vk}, {"res", res}};
+}
+
+void run(const ExportArgs& a) {
+    // Command line first, before any file is opened.
+    if (a.format != "dds" && a.format != "ktx2")
+        throw UsageError("--format \"" + a.format + "\": expected dds or ktx2");
+    if (a.ao != "bc5" && a.ao != "bc4") throw UsageError("--ao \"" + a.ao + "\": expected bc5 or bc4");
+    if (a.distance != "native" && a.distance != "float")
+        throw UsageError("--distance \"" + a.distance + "\": expected native or float");
+    if (a.out.empty()) throw UsageError("--out: an output directory is required");
+
+    const CacheReader cache(a.cache);
+    cache.verifyAll();  // never export damaged blocks; and the checksum the manifest quotes is then the file's
+    const CacheParams& p = cache.params();
+    const TexelFormat aoFormat = a.ao == "bc4" ? TexelFormat::Bc4Unorm : TexelFormat::Bc5Unorm;
+    const bool floatDistance = a.distance == "float";
+    const TexelFormat distanceFormat = floatDistance ? TexelFormat::R32Float : texport::texelFormatOf(p.depthFormat);
+    const bool ktx2 = a.format == "ktx2";
+    const std::string ext = ktx2 ? ".ktx2" : ".dds";
+    const std::string writer = "cubeao export";
+    const auto file = [&](TexelFormat f, std::uint32_t res, std::span<const std::uint8_t> faces) {
+        return ktx2 ? texport::ktx2File(f, res, faces, writer) : texport::ddsFile(f, res, faces);
+    };
+
+    Staging staging(a.out);
+    Ordered probes = Ordered::array();
+    Progress progress("export", cache.probeCount());
+    for (std::size_t i = 0; i < cache.probeCount(); ++i) {
+        const ProbeView v = cache.probe(i);
+        char stem[32];
+        std::snprintf(stem, sizeof stem, "probe_%04u", v.index);
+        const std::string aoName = stem + ("_ao" + ext), distanceName = stem + ("_distance" + ext);
+        if (floatDistance)
+            staging.write(distanceName, file(distanceFormat, p.depthRes,
+                                             texport::distancesAsFloat(v.depth, p.depthRes, p.depthFormat,
+                                                                       v.maxDistance)));
+        else
+            staging.write(distanceName, file(distanceFormat, p.depthRes, v.depth));
+        if (aoFormat == TexelFormat::Bc4Unorm)
+            staging.write(aoName, file(aoFormat, p.res, texport::bc5RedBlocks(v.aoConfidence)));
+        else
+            staging.write(aoName, file(aoFormat, p.res, v.aoConfidence));
+        // File coordinates in double (docs/FORMAT.md: position + origin), as probes.json has them.
+        const glm::dvec3 pos = glm::dvec3(v.position) + glm::dvec3(p.origin);
+        probes.push_back({{"id", v.index},
+                          {"position", {pos.x, pos.y, pos.z}},
+                          {"max_distance", v.maxDistance},
+                          {"ao", aoName},
+                          {"distance", distanceName}});
+        progress.advance();
+    }
+
+    Ordered distance = formatJson(distanceFormat, p.depthRes);
+    if (distanceFormat == TexelFormat::R16Unorm) {
+        distance["units"] = "max_distance";
+        distance["decode"] = "distance = value / 65535 * max_distance of the probe (world units); 0: nothing there";
+    } else {
+        distance["units"] = "world";
+        distance["decode"] = "distance in world units; 0: nothing there";
+    }
+    distance["filter"] = "each texel: the nearest non-empty distance of the res/depth_res square of AO texels it covers";
+    Ordered ao = formatJson(aoFormat, p.res);
+    ao["channels"] = aoFormat == TexelFormat::Bc5Unorm ? Ordered{{"r", "ao, 1 = open"}, {"g", "confidence"}}
+                                                       : Ordered{{"r", "ao, 1 = open"}};
+    const Ordered manifest = {
+        {"cubeao_export", kManifestVersion},
+        {"container", a.format},
+        {"source",
+         {{"cache", fs::absolute(a.cache).lexically_normal().string()},
+          {"format_version", cache.formatVersion()},
+          {"file_bytes", cache.fileSize()},
+          {"file_checksum", hashToString(fileChecksum(cache))},
+          {"checksum_algorithm", "XXH3-64 of every byte before the last 8 (docs/FORMAT.md)"},
+          {"scene_hash", hashToString(p.sceneHash)}}},
+        {"cube",
+         {{"faces", {"+x", "-x", "+y", "-y", "+z", "-z"}},
+          {"orientation", "GL/D3D/Vulkan cube map convention: sample with the direction from the probe, world axes, "
+                          "no flip"},
+          {"mip_levels", 1}}},
+        {"ao", ao},
+        {"distance", distance},
+        {"bake",
+         {{"estimator", estimatorName(Estimator(p.estimator))},
+          {"falloff", falloffName(Falloff(p.falloff))},
+          {"radius", p.radius},
+          {"spp", p.spp},
+          {"seed", p.seed},
+          {"directions", p.directions},
+          {"steps", p.steps},
+          {"hybrid_threshold", p.hybridThreshold},
+          {"res", p.res},
+          {"depth_res", p.depthRes},
+          {"depth_format", depthFormatName(p.depthFormat)},
+          {"origin", {p.origin.x, p.origin.y, p.origin.z}}}},
+        {"probes", probes}};
+    const std::string text = manifest.dump(2) + "\n";
+    staging.write("manifest.json", std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+    staging.commit();
+
+    const std::size_t files = 2 * cache.probeCount() + 1;
+    std::printf("export: %zu probes -> %s (%s: %s %u² AO, %s %u² distance), %zu files, %llu bytes\n",
+                cache.probeCount(), a.out.c_str(), a.format.c_str(), texport::formatCodes(aoFormat).name, p.res,
+                texport::formatCodes(distanceFormat).name, p.depthRes, files, (unsigned long long)staging.bytes());
+    if (a.json)
+        printJson({{"probes", cache.probeCount()},
+                   {"out", a.out},
+                   {"manifest", (fs::path(a.out) / "manifest.json").string()},
+                   {"format", a.format},
+                   {"ao_format", texport::formatCodes(aoFormat).name},
+                   {"distance_format", texport::formatCodes(distanceFormat).name},
+                   {"files", files},
+                   {"bytes", staging.bytes()}});
+}
+
+}  // namespace
+
+void addExport(CLI::App& app) {
+    auto* cmd = app.add_subcommand("export", "Write every probe of a cache as DDS or KTX2 cube maps + manifest.json");
+    auto a = std::make_shared<ExportArgs>();
+    cmd->add_option("cache", a->cache, "Probe cache (.cubeao)")->required();
+    cmd->add_option("--format", a->format, "dds (DX10 header) or ktx2")->capture_default_str();
+    cmd->add_option("--out", a->out, "Output directory (created if missing)")->required();
+    cmd->add_option("--ao", a->ao, "bc5: AO + confidence as cached; bc4: AO only")->capture_default_str();
+    cmd->add_option("--distance", a->distance,
+                    "native: the cache's texels as they are (r16unorm: fraction of max_distance); "
+                    "float: R32_FLOAT world units")
+        ->capture_default_str();
+    cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
+    cmd->callback([a] { run(*a); });
+}
+
+}  // namespace cubeao::cli
