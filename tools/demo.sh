@@ -143,3 +143,5 @@ print(f"report  {os.path.join(out, 'report.json')}")
 print(f"picture {os.path.join(out, 'side_by_side.png')}  (rows: first, middle, last frame; reference | probes | gtao)")
 print(f"probe   {os.path.join(out, 'probe_cross.png')}  (probe 1 unfolded: traced above, horizon-split below)")
 PY
+"$bin" report "$out" --out "$out/report.html" >/dev/null
+echo "page    $out/report.html  (one self-contained HTML page: table, frames, error maps, charts, probes from above)"

@@ -14,6 +14,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libxxhash-dev libspdlog-dev libfmt-dev
   libgtest-dev libsquish-dev                                        # libsquish: BC5 cross-check in tests/test_bc.cpp
   clang libclang-rt-14-dev                                          # libFuzzer targets (tests/fuzz, tools/fuzz.sh)
+  chromium fonts-liberation                                         # headless check of `cubeao report`'s page (tests/test_report.cpp)
 )
 
 missing=()

@@ -17,6 +17,7 @@ void addMerge(CLI::App& app);
 void addExport(CLI::App& app);
 void addBench(CLI::App& app);
 void addRender(CLI::App& app);
+void addReport(CLI::App& app);
 // `bench` subcommands in files of their own, registered by addBench on the `bench` subcommand.
 void addBenchDepth(CLI::App& bench);
 void addBenchCache(CLI::App& bench);

@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
     cubeao::cli::addCompare(app);
     cubeao::cli::addBench(app);
     cubeao::cli::addRender(app);
+    cubeao::cli::addReport(app);
     try {
         app.parse(argc, argv);
         // A GL error is logged where it happens and the work goes on; the command still fails, naming

@@ -1,6 +1,7 @@
 // AO image files through OpenImageIO; conventions are documented in image_io.h.
 #include "cubeao/metrics/image_io.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
@@ -115,6 +116,25 @@ void writePngRgb(const fs::path& path, int width, int height, const std::vector<
     const auto bytes = toBytes(rgb);
     writeAtomically(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), OIIO::TypeDesc::UINT8,
                     bytes.data());
+}
+
+std::vector<unsigned char> encodePng(int width, int height, int channels, const std::vector<float>& values) {
+    if (width <= 0 || height <= 0 || (channels != 1 && channels != 3 && channels != 4) ||
+        values.size() != static_cast<std::size_t>(channels) * static_cast<std::size_t>(width) * height)
+        throw Error("cannot encode PNG: " + std::to_string(values.size()) + " values for a " + std::to_string(width) +
+                    "x" + std::to_string(height) + "x" + std::to_string(channels) + " image");
+    const auto bytes = toBytes(values);
+    std::vector<unsigned char> png;
+    OIIO::Filesystem::IOVecOutput proxy(png);
+    auto out = OIIO::ImageOutput::create("png");
+    if (!out)
+        throw Error("cannot encode PNG: " + OIIO::geterror());
+    out->set_ioproxy(&proxy);
+    const bool ok = out->open("memory.png", OIIO::ImageSpec(width, height, channels, OIIO::TypeDesc::UINT8)) &&
+                    out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) && out->close();
+    if (!ok)
+        throw Error("cannot encode PNG: " + out->geterror());
+    return png;
 }
 
 Image hstack(const std::vector<Image>& images, int gap, float fill) {

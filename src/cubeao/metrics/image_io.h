@@ -33,6 +33,10 @@ void writePng(const std::filesystem::path& path, const Image& image);
 // difference maps and side-by-sides.
 void writePngRgb(const std::filesystem::path& path, int width, int height, const std::vector<float>& rgb);
 
+// 8-bit PNG encoded in memory (for pages that embed images as data: URIs, `cubeao report`), linear
+// like writePng; `channels` 1 (grey), 3 (RGB) or 4 (RGBA), interleaved, values in 0..1.
+std::vector<unsigned char> encodePng(int width, int height, int channels, const std::vector<float>& values);
+
 // Side-by-side montage for reports: images left to right, `gap` pixels apart, top-aligned; the
 // height is the tallest image's; gaps and the space below shorter images hold `fill` (1 = white).
 // An empty list gives an empty image; a negative gap throws cubeao::Error.
