@@ -328,8 +328,17 @@ std::string preprocessShader(const std::string& source, const fs::path& includeD
 
 fs::path shaderDir() {
     if (const char* env = std::getenv("CUBEAO_SHADER_DIR"); env != nullptr && *env != '\0') return env;
+    // A library built in the source tree reads that tree's shaders/ while it exists, so edits show
+    // without an install; an installed library whose source tree is gone reads the installed copy
+    // (CMakeLists.txt, docs/INTEGRATION.md "Shaders").
 #ifdef CUBEAO_SHADER_DIR
-    return CUBEAO_SHADER_DIR;
+    std::error_code ec;
+    if (fs::is_directory(CUBEAO_SHADER_DIR, ec)) return CUBEAO_SHADER_DIR;
+#endif
+#if defined(CUBEAO_INSTALLED_SHADER_DIR)
+    return CUBEAO_INSTALLED_SHADER_DIR;
+#elif defined(CUBEAO_SHADER_DIR)
+    return CUBEAO_SHADER_DIR;  // its error names the missing directory
 #else
     return "shaders";
 #endif

@@ -41,7 +41,7 @@ PreprocessedShader preprocessShaderSource(const std::string& source, const std::
 std::string preprocessShader(const std::string& source, const std::filesystem::path& includeDir,
                              const ShaderDefines& defines, const std::string& sourceName);
 
-// Where shader files live: $CUBEAO_SHADER_DIR if set, else the repository's shaders/ (compiled in).
+// Where shader files live: $CUBEAO_SHADER_DIR, else the source tree's shaders/ if it exists, else the installed copy.
 std::filesystem::path shaderDir();
 
 // One stage of a program. name appears in error messages (a file path for files).
