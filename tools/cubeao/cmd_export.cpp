@@ -20,6 +20,7 @@
 #include <memory>
 #include <random>
 
+#include "cache_json.h"
 #include "cli_util.h"
 #include "commands.h"
 #include "cubeao/bake/bake_settings.h"
@@ -210,6 +211,8 @@ void run(const ExportArgs& a) {
     Ordered ao = formatJson(aoFormat, p.res);
     ao["channels"] = aoFormat == TexelFormat::Bc5Unorm ? Ordered{{"r", "ao, 1 = open"}, {"g", "confidence"}}
                                                        : Ordered{{"r", "ao, 1 = open"}};
+    Ordered bake = bakeParamsJson<Ordered>(p);
+    bake["origin"] = {p.origin.x, p.origin.y, p.origin.z};
     const Ordered manifest = {
         {"cubeao_export", kManifestVersion},
         {"container", a.format},
@@ -227,19 +230,7 @@ void run(const ExportArgs& a) {
           {"mip_levels", 1}}},
         {"ao", ao},
         {"distance", distance},
-        {"bake",
-         {{"estimator", estimatorName(Estimator(p.estimator))},
-          {"falloff", falloffName(Falloff(p.falloff))},
-          {"radius", p.radius},
-          {"spp", p.spp},
-          {"seed", p.seed},
-          {"directions", p.directions},
-          {"steps", p.steps},
-          {"hybrid_threshold", p.hybridThreshold},
-          {"res", p.res},
-          {"depth_res", p.depthRes},
-          {"depth_format", depthFormatName(p.depthFormat)},
-          {"origin", {p.origin.x, p.origin.y, p.origin.z}}}},
+        {"bake", bake},
         {"probes", probes}};
     const std::string text = manifest.dump(2) + "\n";
     staging.write("manifest.json", std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cache_json.h"
 #include "commands.h"
 #include "cubeao/bake/bake_settings.h"
 #include "cubeao/cache/cache_file.h"
@@ -125,19 +126,9 @@ void cacheInfo(const InfoArgs& a) {
                         {"format_version", cache.formatVersion()},
                         {"scene_hash", hashToString(p.sceneHash)},
                         {"probes", cache.probeCount()},
-                        {"res", p.res},
-                        {"depth_res", p.depthRes},
-                        {"depth_format", depthFormatName(p.depthFormat)},
-                        {"estimator", estimatorName(Estimator(p.estimator))},
-                        {"falloff", falloffName(Falloff(p.falloff))},
-                        {"radius", p.radius},
-                        {"spp", p.spp},
-                        {"seed", p.seed},
-                        {"directions", p.directions},
-                        {"steps", p.steps},
-                        {"hybrid_threshold", p.hybridThreshold},
                         {"bytes_per_texel", cache.bytesPerTexel()},
                         {"file_bytes", cache.fileSize()}};
+    j.update(bakeParamsJson(p));
     std::printf("%s: probe cache, format %u, scene %s\n  probes     %zu\n  faces      %u² AO + confidence (BC5), "
                 "%u² distance (%s)\n  estimator  %s, R = %g, falloff %s, spp %u, seed %u, %u directions × %u steps\n"
                 "  size       %llu bytes, %.4f bytes per AO texel\n",
