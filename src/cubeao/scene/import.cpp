@@ -368,6 +368,7 @@ public:
 private:
     void take(void* out, std::size_t n) {
         if (n > bytes_.size() - at_) throw Error(what_ + ": the importer's answer is cut short");
+        if (n == 0) return;  // an empty array's data() may be null, which memcpy must not get
         std::memcpy(out, bytes_.data() + at_, n);
         at_ += n;
     }
