@@ -23,7 +23,8 @@ void writeObj(const Scene& scene, const std::string& path) {
     std::ofstream out(path);
     for (const glm::vec3& p : scene.positions) out << "v " << p.x << ' ' << p.y << ' ' << p.z << '\n';
     for (std::size_t t = 0; t + 2 < scene.indices.size(); t += 3)
-        out << "f " << scene.indices[t] + 1 << ' ' << scene.indices[t + 1] + 1 << ' ' << scene.indices[t + 2] + 1 << '\n';
+        out << "f " << scene.indices[t] + 1 << ' ' << scene.indices[t + 1] + 1 << ' ' << scene.indices[t + 2] + 1
+            << '\n';
 }
 
 // The box room from inside (every pixel sees a wall), 48×27, 256 samples per pixel in both: Blender
@@ -46,9 +47,10 @@ TEST(Blender, ReferenceWithAntiAliasingMatchesCyclesAoPass) {
     // Blender is not ours: under the sanitizers (tools/test-sanitize.sh) it must not inherit the preloaded
     // ASan runtime, whose leak check would report Python's allocations and abort it.
     const test::CliRun r = test::runCommand("timeout 600 env -u LD_PRELOAD -u ASAN_OPTIONS -u LSAN_OPTIONS "
-                                            "blender -b --factory-startup -noaudio --python-exit-code 1 "
-                                            "--python " CUBEAO_SOURCE_DIR "/tools/blender_ao.py -- " + obj + " " +
-                                            camera + " " + dir.path().string() + options + " 2>&1");
+                                            "-u UBSAN_OPTIONS blender -b --factory-startup -noaudio "
+                                            "--python-exit-code 1 --python " CUBEAO_SOURCE_DIR
+                                            "/tools/blender_ao.py -- " + obj + " " + camera + " " +
+                                            dir.path().string() + options + " 2>&1");
     ASSERT_EQ(r.code, 0) << r.out;
     const std::string exr = (dir.path() / "ao_0000.exr").string();
     const Image cycles = readImage(exr);
@@ -71,8 +73,8 @@ TEST(Blender, ReferenceWithAntiAliasingMatchesCyclesAoPass) {
     }
     const double n = double(cycles.pixels.size());
     mae /= n, maeCentres /= n, bias /= n, noise /= n;
-    std::printf("[ info ] Cycles vs reference --aa %d: MAE %.4f (bias %+.4f), pixel centres %.4f; noise %.4f\n", aa, mae,
-                bias, maeCentres, noise);
+    std::printf("[ info ] Cycles vs reference --aa %d: MAE %.4f (bias %+.4f), pixel centres %.4f; noise %.4f\n", aa,
+                mae, bias, maeCentres, noise);
     // Two independent estimates with per-pixel standard error s each: E|d| = sqrt(2) s sqrt(2/π) ≈ 1.13 s.
     EXPECT_LT(mae, 1.6 * noise);
     EXPECT_LT(std::abs(bias), 0.25 * noise);

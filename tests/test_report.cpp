@@ -208,7 +208,10 @@ TEST_F(ReportRun, PageRendersInHeadlessChromium) {
     const fs::path html = dir_->path() / "chromium.html", shot = dir_->path() / "shot.png";
     ASSERT_EQ(runCli("report " + dir_->path().string() + " --out " + html.string()).code, 0);
     // A profile of its own: no clash with a browser the user runs, nor with a parallel test.
-    const std::string chromium = "timeout 120 chromium --headless --no-sandbox --disable-gpu --user-data-dir=" +
+    // Chromium is not ours: under the sanitizers (tools/test-sanitize.sh) it must not inherit the preloaded
+    // ASan runtime and its options, under which it aborted at start.
+    const std::string chromium = "timeout 120 env -u LD_PRELOAD -u ASAN_OPTIONS -u LSAN_OPTIONS -u UBSAN_OPTIONS "
+                                 "chromium --headless --no-sandbox --disable-gpu --user-data-dir=" +
                                  (dir_->path() / "chromium-profile").string() + " --window-size=1280,2400 ";
     const CliRun s = runCommand(chromium + "--screenshot=" + shot.string() + " file://" + html.string() + " 2>&1");
     ASSERT_EQ(s.code, 0) << s.out;
