@@ -504,14 +504,13 @@ TEST(CliFormats, OneModelOfEachAssimpFormatImports) {
         if (!entry.is_regular_file() || entry.path().string().find("/invalid/") != std::string::npos) continue;
         std::string name = entry.path().filename().string();
         std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-        for (auto& [ext, files] : byExt)  // longest match wins: ".mesh.xml" before ".xml"
-            if (name.size() > ext.size() && name.compare(name.size() - ext.size(), ext.size(), ext) == 0) {
-                const bool longer = std::any_of(byExt.begin(), byExt.end(), [&](const auto& other) {
-                    return other.first.size() > ext.size() && name.size() > other.first.size() &&
-                           name.compare(name.size() - other.first.size(), other.first.size(), other.first) == 0;
-                });
-                if (!longer) files.push_back(entry.path());
-            }
+        std::vector<fs::path>* longest = nullptr;  // ".mesh.xml" wins over ".xml"
+        std::size_t longestSize = 0;
+        for (auto& [ext, files] : byExt)
+            if (name.size() > ext.size() && ext.size() > longestSize &&
+                name.compare(name.size() - ext.size(), ext.size(), ext) == 0)
+                longest = &files, longestSize = ext.size();
+        if (longest) longest->push_back(entry.path());
     }
     const std::set<std::string> assimpCannot = {".irr", ".irrmesh", ".ter"};
     std::size_t formats = 0;

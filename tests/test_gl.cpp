@@ -28,19 +28,7 @@ using cubeao::test::TempDir;
 
 namespace {
 
-// Sets an environment variable for one scope and restores the previous value.
-class ScopedEnv {
-public:
-    ScopedEnv(const char* name, const std::string& value) : name_(name) {
-        if (const char* old = std::getenv(name)) old_ = old;
-        ::setenv(name, value.c_str(), 1);
-    }
-    ~ScopedEnv() { old_ ? ::setenv(name_, old_->c_str(), 1) : ::unsetenv(name_); }
-
-private:
-    const char* name_;
-    std::optional<std::string> old_;
-};
+using cubeao::test::ScopedEnv;
 
 std::size_t count(const std::string& text, const std::string& what) {
     std::size_t n = 0;

@@ -13,21 +13,7 @@ namespace {
 
 using cubeao::Progress;
 using cubeao::test::contains;
-
-// Sets environment variables for one scope and puts back what was there.
-class ScopedEnv {
-public:
-    ScopedEnv(const char* name, const char* value) : name_(name) {
-        if (const char* old = std::getenv(name)) old_ = old, had_ = true;
-        ::setenv(name, value, 1);
-    }
-    ~ScopedEnv() { had_ ? (void)::setenv(name_, old_.c_str(), 1) : (void)::unsetenv(name_); }
-
-private:
-    const char* name_;
-    std::string old_;
-    bool had_ = false;
-};
+using cubeao::test::ScopedEnv;
 
 TEST(Progress, DescribeGivesCountShareRateElapsedAndEta) {
     EXPECT_EQ(Progress::describe(25, 100, 10.0, "probes"), "25/100 probes (25.0 %), 2.5 probes/s, 10.0 s, eta 30.0 s");

@@ -5,8 +5,10 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <ostream>
 #include <random>
 #include <string>
@@ -23,6 +25,22 @@ inline void PrintTo(const vec3& v, std::ostream* os) { *os << "(" << v.x << ", "
 }  // namespace glm
 
 namespace cubeao::test {
+
+// Sets an environment variable for one scope and restores the previous value.
+class ScopedEnv {
+public:
+    ScopedEnv(const char* name, const std::string& value) : name_(name) {
+        if (const char* old = std::getenv(name)) old_ = old;
+        ::setenv(name, value.c_str(), 1);
+    }
+    ~ScopedEnv() { old_ ? ::setenv(name_, old_->c_str(), 1) : ::unsetenv(name_); }
+    ScopedEnv(const ScopedEnv&) = delete;
+    ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+private:
+    const char* name_;
+    std::optional<std::string> old_;
+};
 
 // The message of the cubeao::Error `f` throws, or "" and a test failure when it throws nothing, so
 // an assertion on the message can never pass by accident. Other exceptions propagate (and fail

@@ -173,7 +173,7 @@ void run(const ExportArgs& a) {
 
     Staging staging(a.out);
     Ordered probes = Ordered::array();
-    Progress progress("export", cache.probeCount());
+    Progress progress("export", cache.probeCount(), "probes");
     for (std::size_t i = 0; i < cache.probeCount(); ++i) {
         const ProbeView v = cache.probe(i);
         char stem[32];
