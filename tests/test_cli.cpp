@@ -43,8 +43,12 @@ TEST(Cli, InfoJsonFields) {
     const CliRun r = run("info builtin:cloister --json");
     ASSERT_EQ(r.code, 0) << r.out;
     const auto j = lastLine(r.out);
-    for (const char* key : {"triangles", "vertices", "bbox", "problems"}) EXPECT_TRUE(j.contains(key)) << key;
+    for (const char* key : {"triangles", "vertices", "bbox", "problems", "peak_rss_mb"})
+        EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_GT(j["triangles"].get<int>(), 20000);
+    // Every --json command reports its peak memory (printJson): at least the scene's own arrays.
+    const double sceneMib = (j["vertices"].get<double>() * 24.0 + j["triangles"].get<double>() * 12.0) / (1 << 20);
+    EXPECT_GT(j["peak_rss_mb"].get<double>(), sceneMib);
 }
 
 TEST(Cli, ReferenceWritesFramesNamedByPathIndex) {
@@ -54,6 +58,7 @@ TEST(Cli, ReferenceWritesFramesNamedByPathIndex) {
     ASSERT_EQ(r.code, 0) << r.out;
     const auto j = lastLine(r.out);
     EXPECT_GT(j["rays_per_s"].get<double>(), 0.0);
+    EXPECT_GT(j["peak_rss_mb"].get<double>(), 1.0);
     ASSERT_EQ(j["frames"].size(), 2u);
     EXPECT_EQ(j["frames"][0]["index"].get<int>(), 5);
     EXPECT_TRUE(fs::exists(dir.path() / "ao_0005.exr"));
@@ -329,6 +334,55 @@ TEST(CliCache, ShardsMergeIntoTheUnshardedCache) {
     EXPECT_EQ(bad.code, 1);
     EXPECT_TRUE(contains(bad.out, "seed 0 vs 5")) << bad.out;
     EXPECT_FALSE(fs::exists(dir.path() / "x.cubeao"));
+}
+
+// `merge --probes`: a cluster bake merges whatever shards exist (tools/slurm/merge.sbatch), so a failed
+// shard must end in a refusal naming the missing probes and shards, with OUT untouched.
+TEST(CliCache, MergeWithProbesRefusesAnIncompleteSet) {
+    TempDir dir;
+    const std::string probes = probeSet(dir, "probes.json", 4);
+    const auto bake = [&](const std::string& out, const std::string& extra) {
+        return run("bake builtin:box-room --probes " + probes + " --out " + (dir.path() / out).string() +
+                   " --res 8 --spp 4 --device cpu " + extra);
+    };
+    ASSERT_EQ(bake("all.cubeao", "").code, 0);
+    ASSERT_EQ(bake("s0.cubeao", "--shard 0/2").code, 0);
+    ASSERT_EQ(bake("s1.cubeao", "--shard 1/2").code, 0);
+    const std::string s0 = (dir.path() / "s0.cubeao").string(), s1 = (dir.path() / "s1.cubeao").string();
+    const fs::path out = dir.path() / "out.cubeao";
+    const std::string outBytes = "not a cache: a refused merge leaves it as it is";
+    dir.write("out.cubeao", outBytes);
+    const auto outUntouched = [&] {
+        return fileBytes(out) == std::vector<std::uint8_t>(outBytes.begin(), outBytes.end());
+    };
+
+    CliRun r = run("merge " + out.string() + " " + s0 + " --probes " + probes + " --shards 2", true);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(contains(r.out, "incomplete: 2 of 4 probes missing: 1, 3 (shard 1/2)")) << r.out;
+    EXPECT_TRUE(contains(r.out, out.string() + " not written")) << r.out;
+    EXPECT_TRUE(outUntouched());
+    r = run("merge " + out.string() + " " + s1 + " --probes " + probes, true);  // without --shards: no shard named
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(contains(r.out, "incomplete: 2 of 4 probes missing: 0, 2\n")) << r.out;
+    EXPECT_TRUE(outUntouched());
+
+    // Probes the set does not have, and probes baked at other positions (another probes.json).
+    r = run("merge " + out.string() + " " + s0 + " " + s1 + " --probes " + probeSet(dir, "three.json", 3), true);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(contains(r.out, s1 + ": probe 3 is not in")) << r.out;
+    const std::string moved = dir.write("moved.json", R"({"version":1,"probes":[{"pos":[3,1.4,2.5]},)"
+                                                      R"({"pos":[6,1.5,1.5]},{"pos":[1.5,1.2,4]},{"pos":[7,1,3]}]})");
+    r = run("merge " + out.string() + " " + s0 + " " + s1 + " --probes " + moved, true);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(contains(r.out, s1 + ": probe 3 at (7, 1, 3.5)")) << r.out;
+    EXPECT_TRUE(outUntouched());
+    EXPECT_EQ(run("merge " + out.string() + " " + s0 + " --shards 2").code, 2) << "--shards needs --probes";
+
+    r = run("merge " + out.string() + " " + s1 + " " + s0 + " --probes " + probes + " --shards 2 --json");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_EQ(lastLine(r.out)["probes"].get<int>(), 4);
+    EXPECT_TRUE(lastLine(r.out)["complete"].get<bool>());
+    EXPECT_EQ(fileBytes(out), fileBytes(dir.path() / "all.cubeao"));
 }
 
 TEST(CliCache, InfoVerifyFindsDamage) {

@@ -15,6 +15,7 @@ packages=(
   libgtest-dev libsquish-dev                                        # libsquish: BC5 cross-check in tests/test_bc.cpp
   clang libclang-rt-14-dev                                          # libFuzzer targets (tests/fuzz, tools/fuzz.sh)
   chromium fonts-liberation                                         # headless check of `cubeao report`'s page (tests/test_report.cpp)
+  slurm-wlm munge                                                   # tools/slurm/, tested on a private localhost cluster (tests/slurm_test.sh)
 )
 
 missing=()

@@ -23,7 +23,10 @@ void addBenchDepth(CLI::App& bench);
 void addBenchCache(CLI::App& bench);
 void addBenchRender(CLI::App& bench);
 
-// Prints `j` compactly on one line to stdout (the last line a --json command prints).
+// Prints `j` compactly on one line to stdout (the last line a --json command prints). An object gets
+// `peak_rss_mb` (peakRssMib, when it has none yet), so every stage of a pipeline reports its memory.
 void printJson(const nlohmann::json& j);
+// Peak resident set of this process so far (getrusage), MiB.
+double peakRssMib();
 
 }  // namespace cubeao::cli

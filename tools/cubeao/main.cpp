@@ -1,6 +1,7 @@
 // cubeao: one binary with subcommands (DESIGN.md §5). Exit codes: 0 done, 1 failed, 2 bad usage.
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 
 #include <cstdio>
 #include <iostream>
@@ -12,7 +13,19 @@
 
 namespace cubeao::cli {
 void printJson(const nlohmann::json& j) {
+    if (j.is_object() && !j.contains("peak_rss_mb")) {
+        nlohmann::json withRss = j;
+        withRss["peak_rss_mb"] = peakRssMib();
+        std::cout << withRss.dump() << std::endl;
+        return;
+    }
     std::cout << j.dump() << std::endl;
+}
+
+double peakRssMib() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 }  // namespace cubeao::cli
 

@@ -7,8 +7,6 @@
 #include <string>
 #include <vector>
 
-#include <sys/resource.h>
-
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
@@ -67,13 +65,6 @@ inline nlohmann::json residencyJson(const ProbeProjectionPass& p) {
             {"evictions", r.evictions},
             {"upload_bound_bytes", p.residency().uploadBound()},
             {"max_frame_upload_bytes", r.maxFrameUploadBytes}};
-}
-
-// Peak resident set of this process so far (getrusage), MiB.
-inline double peakRssMib() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return double(u.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
 // The camera path's frame `frame` at width × height.
