@@ -11,6 +11,7 @@ void registerBuiltinScenes() {
         registerBuiltinScene("sphere-plane", {makeSpherePlane, spherePlanePath});
         registerBuiltinScene("box-room", {makeBoxRoom, boxRoomPath});
         registerBuiltinScene("cloister", {makeCloister, cloisterPath});
+        registerBuiltinScene("town", {makeTown, townPath});
     });
 }
 

@@ -530,8 +530,9 @@ TEST(ImportObj, CornerNormalsOfSharedPositionsAreKept) {
 
 TEST(ImportBuiltin, EveryBuiltinLoadsThroughLoadScene) {
     const std::vector<std::string> names = builtinSceneNames();
-    ASSERT_EQ(names.size(), 3u);
+    ASSERT_EQ(names.size(), 4u);
     for (const std::string& name : names) {
+        if (name == "town") continue;  // needs the shared models: test_town.cpp
         SCOPED_TRACE(name);
         const Scene s = loadScene("builtin:" + name);
         expectWellFormed(s);

@@ -2,6 +2,7 @@
 
 #include <map>
 #include <mutex>
+#include <utility>
 
 #include "cubeao/core/error.h"
 #include "cubeao/scene/repair.h"
@@ -27,13 +28,29 @@ std::string nameList() {
     return names;
 }
 
-BuiltinScene lookup(const std::string& spec) {
-    const std::string name = isBuiltinSpec(spec) ? spec.substr(std::string(kPrefix).size()) : spec;
+// "builtin:NAME[:ARG]" (or "NAME[:ARG]") split at the first ':' after the prefix.
+struct Spec {
+    std::string name, arg;
+};
+Spec splitSpec(const std::string& spec) {
+    const std::string rest = isBuiltinSpec(spec) ? spec.substr(std::string(kPrefix).size()) : spec;
+    const std::size_t colon = rest.find(':');
+    if (colon == std::string::npos) return {rest, ""};
+    return {rest.substr(0, colon), rest.substr(colon + 1)};
+}
+
+// The entry for `spec` and its argument; Error when the name is unknown or takes no argument but has one.
+std::pair<BuiltinScene, std::string> lookup(const std::string& spec) {
+    const Spec s = splitSpec(spec);
     {
         Registry& r = registry();
         std::lock_guard lock(r.mutex);
-        const auto it = r.scenes.find(name);
-        if (it != r.scenes.end()) return it->second;
+        const auto it = r.scenes.find(s.name);
+        if (it != r.scenes.end()) {
+            if (!s.arg.empty() && !it->second.takesArgument)
+                throw Error(spec + ": builtin:" + s.name + " takes no argument (got '" + s.arg + "')");
+            return {it->second, s.arg};
+        }
         if (r.scenes.empty())
             throw Error(spec + ": no built-in scenes are registered (the program must call "
                                "cubeao::scenes::registerBuiltinScenes() from cubeao_scenes first)");
@@ -42,6 +59,14 @@ BuiltinScene lookup(const std::string& spec) {
 }
 
 }  // namespace
+
+BuiltinScene::BuiltinScene(std::function<Scene()> scene, std::function<CameraPath()> path) {
+    if (scene) makeScene = [f = std::move(scene)](const std::string&) { return f(); };
+    if (path) cameraPath = [f = std::move(path)](const std::string&) { return f(); };
+}
+
+BuiltinScene::BuiltinScene(MakeScene scene, MakePath path)
+    : makeScene(std::move(scene)), cameraPath(std::move(path)), takesArgument(true) {}
 
 void registerBuiltinScene(const std::string& name, BuiltinScene scene) {
     if (name.empty() || name.find(':') != std::string::npos)
@@ -63,13 +88,17 @@ std::vector<std::string> builtinSceneNames() {
 }
 
 Scene makeBuiltinScene(const std::string& spec) {
-    Scene scene = lookup(spec).makeScene();
+    const auto [entry, arg] = lookup(spec);
+    Scene scene = entry.makeScene(arg);
     scene.source = isBuiltinSpec(spec) ? spec : kPrefix + spec;
     prepareScene(scene, true);
     return scene;
 }
 
-CameraPath builtinCameraPath(const std::string& spec) { return lookup(spec).cameraPath(); }
+CameraPath builtinCameraPath(const std::string& spec) {
+    const auto [entry, arg] = lookup(spec);
+    return entry.cameraPath(arg);
+}
 
 CameraPath resolveCameraPath(const std::string& cameraArg, const std::string& sceneSpec) {
     if (isBuiltinSpec(cameraArg)) return builtinCameraPath(cameraArg);

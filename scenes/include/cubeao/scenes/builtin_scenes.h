@@ -1,12 +1,15 @@
 // The procedural scenes behind "builtin:NAME", each with a short camera path of its own.
 #pragma once
 
+#include <cstddef>
+#include <string>
+
 #include "cubeao/scene/camera_path.h"
 #include "cubeao/scene/scene.h"
 
 namespace cubeao::scenes {
 
-// Registers builtin:sphere-plane, builtin:box-room and builtin:cloister with scene/builtin.h, so
+// Registers builtin:sphere-plane, builtin:box-room, builtin:cloister and builtin:town with scene/builtin.h, so
 // loadScene, makeBuiltinScene and resolveCameraPath find them. Call once at program start (the CLI's
 // main and the tests' main do); later calls do nothing. Thread-safe.
 void registerBuiltinScenes();
@@ -28,5 +31,23 @@ CameraPath boxRoomPath();
 // outer wall; tens of thousands of triangles. The default scene of the README's main command.
 Scene makeCloister();
 CameraPath cloisterPath();
+
+// A town of copies of the two shared real models: blocks with a Sibenik copy (its west door left open) and
+// blocks of FZK-Haus copies in walled gardens (quarter turns) around a courtyard, on a street grid with
+// sidewalks, kerbs, lamps and benches. `arg` is the triangle count: "" = kDefaultTownTriangles, else a number
+// with an optional k or m suffix ("500k", "10m", "2.5m", "2000000"), from kMinTownTriangles to
+// kMaxTownTriangles; the result is within a few hundred triangles of it. Needs
+// $CUBEAO_SHARED_DIR/scenes/sibenik/ (else the source tree's ../shared) and the Debian package
+// assimp-testmodels; throws cubeao::Error naming what is missing or what is wrong with `arg`.
+inline constexpr std::size_t kDefaultTownTriangles = 2'000'000;
+inline constexpr std::size_t kMinTownTriangles = 150'000;      // a Sibenik and an FZK-Haus copy: the walk's
+inline constexpr std::size_t kMaxTownTriangles = 100'000'000;  // some 5 GB while it is prepared
+Scene makeTown(const std::string& arg);
+// Along a street, in through the Sibenik copy's west door and down its nave (the shared Sibenik walk),
+// back out, across the street and once around an FZK-Haus copy in its garden; eyes 1.7 m above the
+// ground. Needs the shared Sibenik walk (walk.json beside the model).
+CameraPath townPath(const std::string& arg);
+// The triangle count `arg` asks for (see makeTown); throws cubeao::Error for anything else.
+std::size_t parseTownTriangles(const std::string& arg);
 
 }  // namespace cubeao::scenes
