@@ -208,7 +208,10 @@ TEST(Cli, BakeRejectsBadInput) {
 
 // ---- the probe cache: bake → info, resume, shards → merge, damage ---------------------------------
 
+using cubeao::CacheParams;
 using cubeao::CacheReader;
+using cubeao::ProbeView;
+using cubeao::WriteOptions;
 using cubeao::test::contains;
 
 std::string probeSet(const TempDir& dir, const std::string& name, int count) {
@@ -305,6 +308,44 @@ TEST(CliCache, BakeResumesAndRefusesAnotherBake) {
     other = run("bake builtin:box-room --out " + dir.path().string() + " --probes " + moved + " --device cpu", true);
     EXPECT_EQ(other.code, 1);
     EXPECT_TRUE(contains(other.out, "--out is a directory")) << other.out;
+}
+
+// Issue 16: merging never holds its inputs in memory. A 338 MiB cache (one payload repeated, so the test
+// itself stays small) is merged by `cubeao merge`, whose peak resident set must stay within a few of the
+// writer's 64 MiB release windows above the same command's on a one-probe cache: before the inputs'
+// pages were released it grew by the whole file.
+TEST(CliCache, MergeOfALargeCacheKeepsLittleOfItResident) {
+    if (cubeao::test::kAddressSanitizer) GTEST_SKIP() << "ASan's shadow memory and quarantine dwarf the figure";
+    TempDir dir;
+    CacheParams params;
+    params.sceneHash = 0x1234;
+    params.res = 256;
+    params.depthRes = 64;
+    params.estimator = 2;
+    params.spp = 1;
+    params.radius = 1.0f;
+    const std::vector<std::uint8_t> ao(cubeao::aoSectionSize(params), 0x5a), depth(cubeao::depthSectionSize(params), 0x33);
+    const auto write = [&](const fs::path& file, std::uint32_t count) {
+        std::vector<ProbeView> probes;
+        for (std::uint32_t i = 0; i < count; ++i) probes.push_back({i, glm::vec3(float(i), 0.0f, 0.0f), 2.0f, ao, depth});
+        cubeao::writeCache(file, params, probes);
+    };
+    write(dir.path() / "small.cubeao", 1);
+    write(dir.path() / "large.cubeao", 800);
+    const double fileMib = double(fs::file_size(dir.path() / "large.cubeao")) / (1 << 20);
+    ASSERT_GT(fileMib, 300.0);
+    const auto mergedRss = [&](const std::string& in) {
+        const CliRun r = run("merge " + (dir.path() / ("out-" + in)).string() + " " + (dir.path() / in).string() +
+                             " --json");
+        EXPECT_EQ(r.code, 0) << r.out;
+        return r.code == 0 ? lastLine(r.out)["peak_rss_mb"].get<double>() : 0.0;
+    };
+    const double small = mergedRss("small.cubeao"), large = mergedRss("large.cubeao");
+    EXPECT_LT(large, small + 2.5 * double(WriteOptions::kReleaseBytes >> 20))
+        << "merge of a " << fileMib << " MiB cache peaked at " << large << " MiB (one probe: " << small << ")";
+    // And it is still the same cache, byte for byte.
+    std::ifstream a(dir.path() / "large.cubeao", std::ios::binary), b(dir.path() / "out-large.cubeao", std::ios::binary);
+    EXPECT_TRUE(std::equal(std::istreambuf_iterator<char>(a), {}, std::istreambuf_iterator<char>(b), {}));
 }
 
 TEST(CliCache, ShardsMergeIntoTheUnshardedCache) {

@@ -418,6 +418,14 @@ void writeCache(const std::filesystem::path& path, const CacheParams& params, st
 
     // Probe checksums first (they live in the table, which precedes the payload): the payload is
     // read twice, which costs far less than the disk write.
+    std::uint64_t unreleased = 0;  // payload bytes read since the sources were last released
+    const auto readPayload = [&](std::uint64_t bytes) {
+        unreleased += bytes;
+        if (unreleased >= WriteOptions::kReleaseBytes && options.releaseSources) {
+            options.releaseSources();
+            unreleased = 0;
+        }
+    };
     std::vector<std::uint8_t> table(kEntrySize * count);
     for (std::uint32_t i = 0; i < count; ++i) {
         std::uint8_t* e = table.data() + kEntrySize * i;
@@ -433,6 +441,7 @@ void writeCache(const std::filesystem::path& path, const CacheParams& params, st
         put64(e + ent::depthOffset, aoOffset + aoSize);  // aoSize is a multiple of 16: no gap
         put64(e + ent::depthSize, depthSize);
         put64(e + ent::checksum, hashProbe(v.aoConfidence, v.depth));
+        readPayload(aoSize + depthSize);
     }
     const auto header = encodeHeader(params, count, stride * count, XXH3_64bits(table.data(), table.size()));
 
@@ -446,9 +455,11 @@ void writeCache(const std::filesystem::path& path, const CacheParams& params, st
             sink.write(v.depth);
             sink.zeros(stride - aoSize - depthSize);
             if (options.progress) options.progress->advance();
+            readPayload(aoSize + depthSize);
         }
         sink.finish();
     }
+    if (options.releaseSources) options.releaseSources();
     tmp.syncAndClose();
     if (options.beforeRename) options.beforeRename();
     tmp.renameIntoPlace();
@@ -751,10 +762,12 @@ void appendToCache(const std::filesystem::path& path, const CacheParams& params,
     std::map<std::uint32_t, std::size_t> indices;
     std::vector<ProbeView> all;
     all.reserve(old.probeCount() + newProbes.size());
+    const std::uint64_t probeBytes = aoSectionSize(params) + depthSectionSize(params);
     for (std::size_t i = 0; i < old.probeCount(); ++i) {
         all.push_back(old.probe(i));  // checksum checked: damage is never copied into a fresh checksum
         seen.emplace(positionKey(all.back().position), i);
         indices.emplace(all.back().index, i);
+        if ((i + 1) % std::max<std::uint64_t>(1, WriteOptions::kReleaseBytes / probeBytes) == 0) old.releaseAll();
     }
     const auto which = [&](std::size_t at) {
         return "probe " + std::to_string(at < old.probeCount() ? at : at - old.probeCount()) +
@@ -768,7 +781,12 @@ void appendToCache(const std::filesystem::path& path, const CacheParams& params,
             throw Error(probe + " has index " + std::to_string(newProbes[i].index) + ", as " + which(it->second));
         all.push_back(newProbes[i]);
     }
-    writeCache(path, params, all, options);
+    WriteOptions withRelease = options;
+    withRelease.releaseSources = [&] {
+        old.releaseAll();
+        if (options.releaseSources) options.releaseSources();
+    };
+    writeCache(path, params, all, withRelease);
 }
 
 void appendToCache(const std::filesystem::path& path, const CacheParams& params,
@@ -796,6 +814,8 @@ void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesy
     std::map<PositionKey, std::pair<std::size_t, std::size_t>> seen;
     std::map<std::uint32_t, std::pair<std::size_t, std::size_t>> indices;
     std::vector<ProbeView> all;
+    const std::size_t releaseEvery =
+        std::max<std::uint64_t>(1, WriteOptions::kReleaseBytes / (aoSectionSize(params) + depthSectionSize(params)));
     for (std::size_t k = 0; k < readers.size(); ++k)
         for (std::size_t i = 0; i < readers[k].probeCount(); ++i) {
             const std::string probe = inputs[k].string() + ": probe " + std::to_string(i);
@@ -807,11 +827,19 @@ void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesy
                 throw Error(probe + " at " + fmtVec(readers[k].position(i)) + " is also " + other(it->second));
             if (const auto [it, fresh] = indices.emplace(readers[k].index(i), std::pair(k, i)); !fresh)
                 throw Error(probe + " has index " + std::to_string(readers[k].index(i)) + ", as " + other(it->second));
-            all.push_back(readers[k].probe(i));
+            all.push_back(readers[k].probe(i));  // checks the probe's checksum: reads its payload
+            if (all.size() % releaseEvery == 0) readers[k].releaseAll();
         }
     // Index order: shards merged in any order give the same file as one unsharded bake.
     std::stable_sort(all.begin(), all.end(), [](const ProbeView& x, const ProbeView& y) { return x.index < y.index; });
-    writeCache(out, params, all, options);
+    // The inputs stay mapped (the views point into them) but not resident: a merge of caches of any
+    // size holds about WriteOptions::kReleaseBytes of them at a time.
+    WriteOptions withRelease = options;
+    withRelease.releaseSources = [&] {
+        for (const CacheReader& r : readers) r.releaseAll();
+        if (options.releaseSources) options.releaseSources();
+    };
+    writeCache(out, params, all, withRelease);
 }
 
 }  // namespace cubeao

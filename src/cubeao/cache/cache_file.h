@@ -103,6 +103,12 @@ struct WriteOptions {
     std::function<void()> beforeRename;
     // Advanced once per probe written (merge's progress); may be null.
     Progress* progress = nullptr;
+    // Called after every kReleaseBytes of probe payload read (both passes over the probes: checksums,
+    // then the write), and at the end. mergeCaches and appendToCache drop their inputs' mapped pages
+    // here (CacheReader::releaseAll), so copying a cache of any size keeps only that much of it
+    // resident. May be null.
+    std::function<void()> releaseSources;
+    static constexpr std::uint64_t kReleaseBytes = std::uint64_t(64) << 20;
 };
 
 // The temporary file writeCache writes beside a target named `target` is ".TARGET.tmp-PID-RANDOM": the
