@@ -310,11 +310,11 @@ TEST(CliCache, BakeResumesAndRefusesAnotherBake) {
     EXPECT_TRUE(contains(other.out, "--out is a directory")) << other.out;
 }
 
-// Issue 16: merging never holds its inputs in memory. A 338 MiB cache (one payload repeated, so the test
-// itself stays small) is merged by `cubeao merge`, whose peak resident set must stay within a few of the
-// writer's 64 MiB release windows above the same command's on a one-probe cache: before the inputs'
-// pages were released it grew by the whole file.
-TEST(CliCache, MergeOfALargeCacheKeepsLittleOfItResident) {
+// Issue 16: merging and checking a cache never hold it in memory. A 338 MiB cache (one payload repeated,
+// so the test itself stays small) is merged by `cubeao merge` and checked by `info --verify`, whose peak
+// resident sets must stay within a few of the 64 MiB release windows above a merge of a one-probe cache:
+// before the mapped pages were released both grew by the whole file.
+TEST(CliCache, MergeAndVerifyOfALargeCacheKeepLittleOfItResident) {
     if (cubeao::test::kAddressSanitizer) GTEST_SKIP() << "ASan's shadow memory and quarantine dwarf the figure";
     TempDir dir;
     CacheParams params;
@@ -343,6 +343,11 @@ TEST(CliCache, MergeOfALargeCacheKeepsLittleOfItResident) {
     const double small = mergedRss("small.cubeao"), large = mergedRss("large.cubeao");
     EXPECT_LT(large, small + 2.5 * double(WriteOptions::kReleaseBytes >> 20))
         << "merge of a " << fileMib << " MiB cache peaked at " << large << " MiB (one probe: " << small << ")";
+    // `info --verify` reads every byte of it too (probe checksums, then the file checksum).
+    const CliRun verify = run("info " + (dir.path() / "large.cubeao").string() + " --verify --json");
+    ASSERT_EQ(verify.code, 0) << verify.out;
+    EXPECT_LT(lastLine(verify.out)["peak_rss_mb"].get<double>(), small + 2.5 * double(WriteOptions::kReleaseBytes >> 20))
+        << "info --verify of a " << fileMib << " MiB cache";
     // And it is still the same cache, byte for byte.
     std::ifstream a(dir.path() / "large.cubeao", std::ios::binary), b(dir.path() / "out-large.cubeao", std::ios::binary);
     EXPECT_TRUE(std::equal(std::istreambuf_iterator<char>(a), {}, std::istreambuf_iterator<char>(b), {}));

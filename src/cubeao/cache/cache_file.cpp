@@ -721,8 +721,18 @@ void CacheReader::verifyAll() const {
     constexpr std::size_t kListed = 8;
     std::vector<std::string> damage;
     std::size_t damaged = 0;
+    // Pages read are dropped every kReleaseBytes (releaseAll), so checking a cache of any size keeps about
+    // that much of it resident, as merge does.
+    std::uint64_t unreleased = 0;
+    const auto read = [&](std::uint64_t bytes) {
+        unreleased += bytes;
+        if (unreleased < WriteOptions::kReleaseBytes) return;
+        releaseAll();
+        unreleased = 0;
+    };
     for (std::size_t i = 0; i < entries_.size(); ++i) {
         const std::uint64_t computed = probeChecksum(entries_[i]);
+        read(entries_[i].aoSize + entries_[i].depthSize);
         if (computed == entries_[i].checksum) {
             verified_[i].store(1, std::memory_order_release);
             continue;
@@ -733,7 +743,14 @@ void CacheReader::verifyAll() const {
     }
     if (damaged > kListed) damage.push_back("and " + std::to_string(damaged - kListed) + " more damaged probes");
     const std::uint64_t stored = get64(data_ + size_ - kTrailerSize);
-    const std::uint64_t computed = XXH3_64bits(data_, size_ - kTrailerSize);
+    const HashState hash = newHashState();
+    for (std::uint64_t at = 0; at < size_ - kTrailerSize; at += WriteOptions::kReleaseBytes) {
+        const std::uint64_t n = std::min(WriteOptions::kReleaseBytes, size_ - kTrailerSize - at);
+        XXH3_64bits_update(hash.get(), data_ + at, n);
+        read(n);
+    }
+    releaseAll();
+    const std::uint64_t computed = XXH3_64bits_digest(hash.get());
     if (stored != computed)
         damage.push_back("file checksum: mismatch (stored " + hex64(stored) + ", computed " + hex64(computed) + ")" +
                          (damaged ? "" : ": damage outside every probe's sections (padding or the checksum itself)"));
