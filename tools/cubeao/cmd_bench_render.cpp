@@ -547,8 +547,7 @@ void run(const RenderBenchArgs& a) {
                    {"methods", methods},
                    {"sweep", sweep},
                    {"sweep_caches", sweepCaches},
-                   {"targets", targets},
-                   {"peak_rss_mb", peakRssMib()}});
+                   {"targets", targets}});  // printJson adds peak_rss_mb
     }
 }
 

@@ -111,6 +111,23 @@ HashState newHashState() {
     return s;
 }
 
+// Calls `release` after every WriteOptions::kReleaseBytes of mapped bytes read: copying or checking a
+// cache of any size then keeps about that much of it resident (CacheReader::releaseAll drops the pages).
+class ReleasePacer {
+public:
+    explicit ReleasePacer(std::function<void()> release) : release_(std::move(release)) {}
+    void read(std::uint64_t bytes) {
+        unreleased_ += bytes;
+        if (unreleased_ < WriteOptions::kReleaseBytes || !release_) return;
+        release_();
+        unreleased_ = 0;
+    }
+
+private:
+    std::function<void()> release_;
+    std::uint64_t unreleased_ = 0;
+};
+
 // Probe checksum: XXH3-64 of the AO section's bytes followed by the depth section's bytes.
 std::uint64_t hashProbe(std::span<const std::uint8_t> ao, std::span<const std::uint8_t> depth) {
     HashState s = newHashState();
@@ -418,14 +435,7 @@ void writeCache(const std::filesystem::path& path, const CacheParams& params, st
 
     // Probe checksums first (they live in the table, which precedes the payload): the payload is
     // read twice, which costs far less than the disk write.
-    std::uint64_t unreleased = 0;  // payload bytes read since the sources were last released
-    const auto readPayload = [&](std::uint64_t bytes) {
-        unreleased += bytes;
-        if (unreleased >= WriteOptions::kReleaseBytes && options.releaseSources) {
-            options.releaseSources();
-            unreleased = 0;
-        }
-    };
+    ReleasePacer pacer(options.releaseSources);
     std::vector<std::uint8_t> table(kEntrySize * count);
     for (std::uint32_t i = 0; i < count; ++i) {
         std::uint8_t* e = table.data() + kEntrySize * i;
@@ -441,7 +451,7 @@ void writeCache(const std::filesystem::path& path, const CacheParams& params, st
         put64(e + ent::depthOffset, aoOffset + aoSize);  // aoSize is a multiple of 16: no gap
         put64(e + ent::depthSize, depthSize);
         put64(e + ent::checksum, hashProbe(v.aoConfidence, v.depth));
-        readPayload(aoSize + depthSize);
+        pacer.read(aoSize + depthSize);
     }
     const auto header = encodeHeader(params, count, stride * count, XXH3_64bits(table.data(), table.size()));
 
@@ -455,7 +465,7 @@ void writeCache(const std::filesystem::path& path, const CacheParams& params, st
             sink.write(v.depth);
             sink.zeros(stride - aoSize - depthSize);
             if (options.progress) options.progress->advance();
-            readPayload(aoSize + depthSize);
+            pacer.read(aoSize + depthSize);
         }
         sink.finish();
     }
@@ -721,18 +731,10 @@ void CacheReader::verifyAll() const {
     constexpr std::size_t kListed = 8;
     std::vector<std::string> damage;
     std::size_t damaged = 0;
-    // Pages read are dropped every kReleaseBytes (releaseAll), so checking a cache of any size keeps about
-    // that much of it resident, as merge does.
-    std::uint64_t unreleased = 0;
-    const auto read = [&](std::uint64_t bytes) {
-        unreleased += bytes;
-        if (unreleased < WriteOptions::kReleaseBytes) return;
-        releaseAll();
-        unreleased = 0;
-    };
+    ReleasePacer pacer([this] { releaseAll(); });  // checking a cache of any size keeps little of it resident
     for (std::size_t i = 0; i < entries_.size(); ++i) {
         const std::uint64_t computed = probeChecksum(entries_[i]);
-        read(entries_[i].aoSize + entries_[i].depthSize);
+        pacer.read(entries_[i].aoSize + entries_[i].depthSize);
         if (computed == entries_[i].checksum) {
             verified_[i].store(1, std::memory_order_release);
             continue;
@@ -747,7 +749,7 @@ void CacheReader::verifyAll() const {
     for (std::uint64_t at = 0; at < size_ - kTrailerSize; at += WriteOptions::kReleaseBytes) {
         const std::uint64_t n = std::min(WriteOptions::kReleaseBytes, size_ - kTrailerSize - at);
         XXH3_64bits_update(hash.get(), data_ + at, n);
-        read(n);
+        pacer.read(n);
     }
     releaseAll();
     const std::uint64_t computed = XXH3_64bits_digest(hash.get());
@@ -780,11 +782,12 @@ void appendToCache(const std::filesystem::path& path, const CacheParams& params,
     std::vector<ProbeView> all;
     all.reserve(old.probeCount() + newProbes.size());
     const std::uint64_t probeBytes = aoSectionSize(params) + depthSectionSize(params);
+    ReleasePacer pacer([&] { old.releaseAll(); });
     for (std::size_t i = 0; i < old.probeCount(); ++i) {
         all.push_back(old.probe(i));  // checksum checked: damage is never copied into a fresh checksum
+        pacer.read(probeBytes);
         seen.emplace(positionKey(all.back().position), i);
         indices.emplace(all.back().index, i);
-        if ((i + 1) % std::max<std::uint64_t>(1, WriteOptions::kReleaseBytes / probeBytes) == 0) old.releaseAll();
     }
     const auto which = [&](std::size_t at) {
         return "probe " + std::to_string(at < old.probeCount() ? at : at - old.probeCount()) +
@@ -831,9 +834,10 @@ void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesy
     std::map<PositionKey, std::pair<std::size_t, std::size_t>> seen;
     std::map<std::uint32_t, std::pair<std::size_t, std::size_t>> indices;
     std::vector<ProbeView> all;
-    const std::size_t releaseEvery =
-        std::max<std::uint64_t>(1, WriteOptions::kReleaseBytes / (aoSectionSize(params) + depthSectionSize(params)));
-    for (std::size_t k = 0; k < readers.size(); ++k)
+    const std::uint64_t probeBytes = aoSectionSize(params) + depthSectionSize(params);
+    std::size_t k = 0;  // the input being read
+    ReleasePacer pacer([&] { readers[k].releaseAll(); });
+    for (; k < readers.size(); ++k)
         for (std::size_t i = 0; i < readers[k].probeCount(); ++i) {
             const std::string probe = inputs[k].string() + ": probe " + std::to_string(i);
             const auto other = [&](std::pair<std::size_t, std::size_t> at) {
@@ -845,7 +849,7 @@ void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesy
             if (const auto [it, fresh] = indices.emplace(readers[k].index(i), std::pair(k, i)); !fresh)
                 throw Error(probe + " has index " + std::to_string(readers[k].index(i)) + ", as " + other(it->second));
             all.push_back(readers[k].probe(i));  // checks the probe's checksum: reads its payload
-            if (all.size() % releaseEvery == 0) readers[k].releaseAll();
+            pacer.read(probeBytes);
         }
     // Index order: shards merged in any order give the same file as one unsharded bake.
     std::stable_sort(all.begin(), all.end(), [](const ProbeView& x, const ProbeView& y) { return x.index < y.index; });
