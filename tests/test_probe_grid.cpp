@@ -4,11 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
 
+#include "cubeao/runtime/nearest_lists.h"
 #include "cubeao/runtime/probe_grid.h"
+#include "common/runtime_layout.h"
 
 namespace {
 
@@ -118,6 +122,59 @@ TEST(SurfaceSamples, BothSidesAtTheRequestedDensityAndDeterministic) {
     const std::vector<SurfacePoint> again = sampleSurface(positions, indices, 0.1f);
     ASSERT_EQ(again.size(), points.size());
     for (std::size_t i = 0; i < points.size(); ++i) EXPECT_EQ(again[i].position, points[i].position);
+}
+
+// ---- the second list: the K probes of a set nearest each cell (nearest_lists.h) -------------------
+
+// Every cell's list against trying every probe: clustered, spread, fewer than K, none, and probes
+// outside the grid (clamped into its border cells by the search, at their true distance).
+TEST(NearestProbeLists, EveryCellListsTheKNearestOfTheSetAsTryingEveryProbeWould) {
+    NearestProbeLists lists({0, 0, 0}, {20, 4, 12}, 1.0f, 4, 512);
+    EXPECT_LE(std::size_t(lists.dims().x) * lists.dims().y * lists.dims().z, 512u);
+    std::mt19937 rng(7u);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const auto check = [&](const std::vector<std::uint32_t>& ids, const std::vector<glm::vec3>& at) {
+        for (std::size_t c = 0; c < lists.cellCount(); ++c) {
+            std::vector<std::pair<float, std::uint32_t>> all;
+            for (std::size_t i = 0; i < ids.size(); ++i) {
+                const glm::vec3 d = at[i] - lists.cellCentre(c);
+                all.emplace_back(glm::dot(d, d), ids[i]);
+            }
+            std::sort(all.begin(), all.end());
+            const auto list = lists.cellList(c);
+            for (std::size_t j = 0; j < list.size(); ++j)
+                ASSERT_EQ(list[j], j < all.size() ? all[j].second : kernel::kNoProbe)
+                    << "cell " << c << " entry " << j;
+        }
+    };
+    std::vector<std::uint32_t> ids;
+    std::vector<glm::vec3> at;
+    for (int round = 0; round < 4; ++round) {
+        ids.clear(), at.clear();
+        const int n = round == 0 ? 300 : round == 1 ? 3 : round == 2 ? 40 : 0;
+        for (int i = 0; i < n; ++i) {
+            // Round 2: a cluster in one corner and two probes outside the bounds.
+            const glm::vec3 p = round == 2 ? glm::vec3(2.0f * u(rng), 1.0f * u(rng), 2.0f * u(rng))
+                                           : glm::vec3(20.0f * u(rng), 4.0f * u(rng), 12.0f * u(rng));
+            ids.push_back(std::uint32_t(1000 + 7 * i)), at.push_back(p);
+        }
+        if (round == 2) {
+            ids.push_back(5), at.push_back({30.0f, 2.0f, 6.0f});
+            ids.push_back(6), at.push_back({10.0f, -9.0f, 6.0f});
+        }
+        const std::vector<std::uint32_t> before = lists.table();
+        const std::vector<std::size_t> changed = lists.assign(ids, at);
+        ASSERT_NO_FATAL_FAILURE(check(ids, at)) << "round " << round;
+        // Exactly the cells whose list differs are reported, ascending.
+        std::vector<std::size_t> differ;
+        for (std::size_t c = 0; c < lists.cellCount(); ++c)
+            if (!std::equal(lists.cellList(c).begin(), lists.cellList(c).end(),
+                            before.begin() + std::ptrdiff_t(c * 4)))
+                differ.push_back(c);
+        EXPECT_EQ(changed, differ) << "round " << round;
+        EXPECT_FALSE(changed.empty()) << "round " << round;
+    }
+    EXPECT_TRUE(lists.assign(ids, at).empty()) << "the same set again changes nothing";
 }
 
 }  // namespace

@@ -134,6 +134,9 @@ protected:
         s.residency.uploadBytesPerFrame = uploadBytes;
         return std::make_unique<ProbeProjectionPass>(cache, test::boxRoom().positions, test::boxRoom().indices, s);
     }
+    static std::unique_ptr<ProbeProjectionPass> pass(const CacheReader& cache, const ProbeProjectionSettings& s) {
+        return std::make_unique<ProbeProjectionPass>(cache, test::boxRoom().positions, test::boxRoom().indices, s);
+    }
     static CameraView view(glm::vec3 eye, glm::vec3 target) {
         return test::viewOf(test::singleFrame(eye, target), 0, 48, 32);
     }
@@ -271,6 +274,54 @@ TEST_F(ResidencyGl, APixelNoProbeSeesGetsTheScreenSpaceValueNotOne) {
     r->render(v, 3);
     const Image open = r->readRawAo();
     EXPECT_EQ(*std::min_element(open.pixels.begin(), open.pixels.end()), 1.0f) << "no fallback: open";
+}
+
+// The second list (nearest_lists.h). With one candidate per cell some points are seen by none of
+// their cell's; those take the resident probes nearest them, here all six, and so get what a grid
+// listing every probe in every cell gives them; every other pixel keeps its one candidate's value.
+TEST_F(ResidencyGl, APointItsCellsCandidatesDoNotSeeTakesTheResidentProbesNearIt) {
+    const CacheReader cache(full_);
+    const CameraView v = view({1.5f, 1.6f, 2.8f}, {7.0f, 0.4f, 0.8f});
+    struct Frame {
+        Image ao;
+        std::vector<float> path;  // per pixel: the diagnostics' path (project.comp), 3 = uncovered
+        ProbeProjectionPass::PixelShares shares;
+    };
+    const auto frame = [&](int candidates, int second) {
+        ProbeProjectionSettings s;
+        s.grid.candidates = candidates;
+        s.residentCandidates = second;
+        auto probes = pass(cache, s);
+        auto& projection = *probes;
+        projection.setDiagnostics(true);
+        auto r = renderer(std::move(probes));
+        r->render(v, 0);
+        Frame out{r->readRawAo(), {}, projection.pixelShares()};
+        std::vector<float> rgba(std::size_t(4) * std::size_t(v.width) * std::size_t(v.height));
+        glGetTextureImage(projection.diagnosticsTexture(), 0, GL_RGBA, GL_FLOAT, GLsizei(rgba.size() * sizeof(float)),
+                          rgba.data());
+        for (std::size_t i = 3; i < rgba.size(); i += 4) out.path.push_back(rgba[i]);
+        return out;
+    };
+    const Frame all = frame(int(roomProbes().size()), 0), one = frame(1, 0), both = frame(1, 8);
+    ASSERT_EQ(one.path.size(), one.ao.pixels.size());
+    std::size_t rescued = 0, stillUncovered = 0;
+    for (std::size_t i = 0; i < both.ao.pixels.size(); ++i) {
+        // Rows of the diagnostics run top-down, the raw AO's too (both are the frame's images).
+        if (one.path[i] == 3.0f && all.path[i] != 3.0f) {  // none of its cell's one candidate sees it
+            ++rescued;
+            EXPECT_EQ(both.path[i], 2.0f) << "pixel " << i << ": counted as the fallback-probe path";
+            EXPECT_NEAR(both.ao.pixels[i], all.ao.pixels[i], 1e-6f) << "pixel " << i;
+        } else {
+            EXPECT_EQ(both.ao.pixels[i], one.ao.pixels[i]) << "pixel " << i;
+            stillUncovered += both.path[i] == 3.0f ? 1 : 0;
+        }
+    }
+    EXPECT_GT(rescued, both.ao.pixels.size() / 100) << "the view must hold points one candidate misses";
+    EXPECT_EQ(double(stillUncovered) / double(both.ao.pixels.size()), all.shares.uncovered);
+    EXPECT_GT(one.shares.uncovered, all.shares.uncovered);
+    EXPECT_DOUBLE_EQ(both.shares.uncovered, all.shares.uncovered) << "six probes tried either way";
+    EXPECT_DOUBLE_EQ(both.shares.fallbackProbe, one.shares.uncovered - all.shares.uncovered);
 }
 
 }  // namespace

@@ -93,6 +93,7 @@ TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
     EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, "demand[0]", GL_ARRAY_STRIDE), GLint(sizeof(std::uint32_t)));
 
     EXPECT_EQ(blockBinding(p, "Candidates"), k::kCandidateBuffer);
+    EXPECT_EQ(blockBinding(p, "ResidentCandidates"), k::kResidentCandidateBuffer);
     EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, "candidates[0]", GL_ARRAY_STRIDE),
               GLint(sizeof(std::uint32_t)));
 
@@ -213,7 +214,7 @@ TEST(RuntimeLayout, BindingsAreDistinctPerKind) {
                                     k::kProbeDistanceUnit};
     // The placement count's buffers and the BVH's share the binding space with the run-time passes.
     const std::vector<int> buffers = {k::kTriangleNormalsBuffer, k::kPassCountersBuffer, k::kProbeTableBuffer,
-                                      k::kCandidateBuffer,       k::kCoverageProbeBuffer, k::kCoverageCounterBuffer,
+                                      k::kCandidateBuffer,       k::kResidentCandidateBuffer, k::kCoverageProbeBuffer, k::kCoverageCounterBuffer,
                                       k::kFallbackTileBuffer,    k::kFallbackCountersBuffer, k::kFallbackTileListBuffer,
                                       k::kFallbackWorkBuffer,    k::kProbeFeedbackBuffer,
                                       int(k::kBvhNodeBuffer),    int(k::kBvhTriangleBuffer)};

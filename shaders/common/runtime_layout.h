@@ -36,6 +36,7 @@ CUBEAO_CONST int kTriangleNormalsBuffer = 0;  // G-buffer: one world-space vec4 
 CUBEAO_CONST int kPassCountersBuffer = 4;     // project, ssao/*: PassCounters
 CUBEAO_CONST int kProbeTableBuffer = 5;       // project: ProbeEntry per probe, in cache order
 CUBEAO_CONST int kCandidateBuffer = 6;        // project: K probe indices per grid cell (probe_grid.h), kNoProbe = none
+CUBEAO_CONST int kResidentCandidateBuffer = 9;  // project: the second list, resident probes per coarse cell (nearest_lists.h)
 CUBEAO_CONST int kProbeFeedbackBuffer = 16;   // project: per probe, sampled pixels that used or wanted it
 
 // The counters a pass accumulates over a frame (std430). Fetches are G-buffer and probe texture reads,

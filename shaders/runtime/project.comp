@@ -7,11 +7,13 @@
 //
 // Residency (src/cubeao/runtime/probe_residency.h): a probe's texels sit in atlas slot
 // probes[id].slot, or nowhere (kNoSlot): the loop then passes it over and takes the next resident
-// candidate. A pixel no resident candidate sees gets `uncoveredAo` (kUncoveredAo when a screen-space
-// fallback fills it afterwards, 1 = open without one). Every 4th pixel in x and y counts, weighted, the
-// probes it blended and a better-ranked candidate it had to pass over (its demand), which the residency reads back
-// frames later (sampled feedback, as virtual texturing does): it loads what pixels ask for and keeps
-// what they use.
+// candidate. When none of the cell's candidates is resident and sees the point, it tries the second
+// list, the resident probes nearest the point's coarse cell (src/cubeao/runtime/nearest_lists.h).
+// A pixel none of those sees gets `uncoveredAo` (kUncoveredAo when a screen-space fallback fills it
+// afterwards, 1 = open without one). Every 4th pixel in x and y counts, weighted, the probes it
+// blended and a better-ranked candidate it had to pass over (its demand), which the residency reads
+// back frames later (sampled feedback, as virtual texturing does): it loads what pixels ask for and
+// keeps what they use.
 //
 // Built with PROJECT_DIAGNOSTICS (probe_projection.h setDiagnostics) the pass also writes, per pixel,
 // what the viewer's diagnostic modes show (tools/cubeao-view/view_modes.h) into an RGBA32F image:
@@ -19,7 +21,7 @@
 //   g = probe0's texel footprint at the point: world units per texel, sqrt(probeTexelArea)
 //   b = probe0's confidence texel there (0..1)
 //   a = path: 0 no geometry (sky), 1 probe, 2 fallback probe (a better-ranked candidate was not
-//       resident), 3 uncovered (screen-space fallback, or open without one)
+//       resident, or the second list shaded it), 3 uncovered (screen-space fallback, or open without one)
 // It is computed after projectCandidates from probe0 alone, reading the tables and textures directly
 // rather than through the counted reads, so that the AO, the counters and the feedback are the
 // production kernel's, bit for bit.
@@ -42,6 +44,7 @@ layout(rgba32f, binding = kDiagnosticsImageUnit) writeonly uniform image2D diagn
 
 layout(std430, binding = kProbeTableBuffer) readonly buffer ProbeTable { ProbeEntry probes[]; };
 layout(std430, binding = kCandidateBuffer) readonly buffer Candidates { uint candidates[]; };
+layout(std430, binding = kResidentCandidateBuffer) readonly buffer ResidentCandidates { uint residentCandidates[]; };
 layout(std430, binding = kPassCountersBuffer) buffer Counters { PassCounters counters; };
 layout(std430, binding = kProbeFeedbackBuffer) buffer Feedback { uint demand[]; };
 
@@ -50,6 +53,12 @@ uniform vec3 gridOrigin;
 uniform float cellSize;
 uniform ivec3 gridDims;
 uniform int candidatesPerCell;
+// The second list (src/cubeao/runtime/nearest_lists.h): per coarse cell the resident probes nearest
+// it, residentPerCell of them (0: no second list).
+uniform vec3 residentOrigin;
+uniform float residentCellSize;
+uniform ivec3 residentDims;
+uniform int residentPerCell;
 uniform int tilesX;
 uniform int tilesPerPage;
 uniform ProjectionParams params;
@@ -58,6 +67,8 @@ uniform float uncoveredAo;
 shared uint groupUncovered, groupFallback, groupGeometry, groupFetches;
 
 uint cellBase = 0u;  // first candidate slot of the pixel's cell
+bool secondList = false;  // projectionCandidate reads the second list (from residentBase)
+uint residentBase = 0u;
 uint fetches = 0u;   // texture fetches of this invocation
 
 // Texel of direction sc on `face` of atlas slot `s` in an atlas of size² tiles.
@@ -73,7 +84,9 @@ void demandProbe(uint probe, uint weight) {
 }
 
 // The reads projectCandidates makes (common/projection.h).
-uint projectionCandidate(int k) { return candidates[cellBase + uint(k)]; }
+uint projectionCandidate(int k) {
+    return secondList ? residentCandidates[residentBase + uint(k)] : candidates[cellBase + uint(k)];
+}
 uint projectionSlot(uint probe) { return probes[probe].slot; }
 vec3 projectionProbePosition(uint probe) { return probes[probe].position; }
 float projectionDistance(uint probe, uint slot, int face, vec2 sc) {
@@ -87,7 +100,7 @@ vec2 projectionAoConfidence(uint slot, int face, vec2 sc) {
 
 #ifdef PROJECT_DIAGNOSTICS
 // The diagnostics texel of a point with geometry (see the top of the file).
-vec4 probeDiagnostics(ProjectedAo projected, vec3 x, vec3 n) {
+vec4 probeDiagnostics(ProjectedAo projected, bool fallbackPath, vec3 x, vec3 n) {
     if (projected.used == 0) return vec4(-1.0, 0.0, 0.0, 3.0);
     uint probe = projected.probe0;
     uint slot = probes[probe].slot;  // resident: projectCandidates just read it
@@ -98,7 +111,7 @@ vec4 probeDiagnostics(ProjectedAo projected, vec3 x, vec3 n) {
     int face = cubeFaceOf(d, sc);
     float footprint = sqrt(probeTexelArea(sc, distance, cosine, params.res, params.minFacing));
     float confidence = texelFetch(aoTex, atlasTexel(slot, face, sc, params.res), 0).g;
-    return vec4(float(probe), footprint, confidence, projected.missing != kNoProbe ? 2.0 : 1.0);
+    return vec4(float(probe), footprint, confidence, fallbackPath ? 2.0 : 1.0);
 }
 #endif
 
@@ -125,15 +138,30 @@ void main() {
             ivec3 cell = candidateCellOf(x, gridOrigin, cellSize, gridDims);
             cellBase = uint((cell.z * gridDims.y + cell.y) * gridDims.x + cell.x) * uint(candidatesPerCell);
             ProjectedAo projected = projectCandidates(candidatesPerCell, x, n, params);
+            bool fallbackPath = projected.missing != kNoProbe;
+            if (projected.used == 0 && residentPerCell > 0) {
+                // No resident candidate of the cell sees the point: the resident probes nearest it.
+                ivec3 coarse = candidateCellOf(x, residentOrigin, residentCellSize, residentDims);
+                residentBase = uint((coarse.z * residentDims.y + coarse.y) * residentDims.x + coarse.x) *
+                               uint(residentPerCell);
+                secondList = true;
+                ProjectedAo more = projectCandidates(residentPerCell, x, n, params);
+                secondList = false;
+                if (more.used > 0) {
+                    more.missing = projected.missing;  // what the pixel wanted is still the cell's candidate
+                    projected = more;
+                    fallbackPath = true;
+                }
+            }
             ao = projected.ao;
 #ifdef PROJECT_DIAGNOSTICS
-            diagnostics = probeDiagnostics(projected, x, n);
+            diagnostics = probeDiagnostics(projected, fallbackPath, x, n);
 #endif
             atomicAdd(groupGeometry, 1u);
             if (projected.used == 0) {
                 ao = uncoveredAo;
                 atomicAdd(groupUncovered, 1u);
-            } else if (projected.missing != kNoProbe) {
+            } else if (fallbackPath) {
                 atomicAdd(groupFallback, 1u);
             }
             if ((px.x & 3) == 0 && (px.y & 3) == 0) {

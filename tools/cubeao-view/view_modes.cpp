@@ -73,7 +73,8 @@ const char* viewModeLegend(ViewMode mode) {
             return "probe texel size: purple = fine (1/8 of scale), teal = at scale, yellow = coarse (8x); grey = none";
         case ViewMode::Confidence: return "probe confidence: blue = 0, pink = 0.5, yellow = 1; grey = no probe";
         case ViewMode::Path:
-            return "grey = probe, amber = fallback probe (better one not loaded), magenta = screen space, blue = sky";
+            return "grey = probe, amber = fallback probe (better one not loaded, or a nearby resident one), "
+                   "magenta = screen space, blue = sky";
         case ViewMode::Baseline: return "screen-space baseline AO: black = occluded, white = open";
         case ViewMode::ReferenceDiff:
             return "AO - reference: blue = darker, white = equal, red = brighter (full at 0.25)";

@@ -47,6 +47,20 @@ private:
     std::vector<std::uint32_t> ids_;
 };
 
+// Cells `cells` (ascending) of a table of k entries per cell into `buffer`: runs of consecutive
+// cells, one write each.
+void uploadCells(GLuint buffer, const std::vector<std::uint32_t>& table, std::size_t k,
+                 std::span<const std::size_t> cells) {
+    for (std::size_t i = 0; i < cells.size();) {
+        std::size_t j = i + 1;
+        while (j < cells.size() && cells[j] == cells[j - 1] + 1) ++j;
+        glNamedBufferSubData(buffer, GLintptr(cells[i] * k * sizeof(std::uint32_t)),
+                             GLsizeiptr((cells[j - 1] - cells[i] + 1) * k * sizeof(std::uint32_t)),
+                             table.data() + cells[i] * k);
+        i = j;
+    }
+}
+
 // The cache of a pass, refused before any work when it holds no probe.
 const CacheReader& nonEmpty(const CacheReader& cache) {
     if (cache.probeCount() == 0) throw Error("render --method probes: the cache holds no probes");
@@ -102,6 +116,11 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     cells_ = gl::Buffer::create();
     glNamedBufferStorage(cells_.id(), GLsizeiptr(grid_->table().size() * sizeof(std::uint32_t)), grid_->table().data(),
                          GL_DYNAMIC_STORAGE_BIT);
+    nearest_ = std::make_unique<NearestProbeLists>(boundsMin, boundsMax, 2.0f * grid_->cellSize(),
+                                                   std::max(settings.residentCandidates, 1));
+    nearestCells_ = gl::Buffer::create();
+    glNamedBufferStorage(nearestCells_.id(), GLsizeiptr(nearest_->table().size() * sizeof(std::uint32_t)),
+                         nearest_->table().data(), GL_DYNAMIC_STORAGE_BIT);
     counters_ = gl::Buffer::create();
     glNamedBufferStorage(counters_.id(), sizeof(kernel::PassCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
     sharesRing_ = gl::Buffer::create();
@@ -128,6 +147,10 @@ void ProbeProjectionPass::configureProgram(GLuint p) const {
     glProgramUniform1f(p, uniformLocation(p, "cellSize"), grid_->cellSize());
     glProgramUniform3iv(p, uniformLocation(p, "gridDims"), 1, glm::value_ptr(grid_->dims()));
     glProgramUniform1i(p, uniformLocation(p, "candidatesPerCell"), candidates_);
+    glProgramUniform3fv(p, uniformLocation(p, "residentOrigin"), 1, glm::value_ptr(nearest_->origin()));
+    glProgramUniform1f(p, uniformLocation(p, "residentCellSize"), nearest_->cellSize());
+    glProgramUniform3iv(p, uniformLocation(p, "residentDims"), 1, glm::value_ptr(nearest_->dims()));
+    glProgramUniform1i(p, uniformLocation(p, "residentPerCell"), std::max(settings_.residentCandidates, 0));
     glProgramUniform1f(p, uniformLocation(p, "uncoveredAo"), uncoveredAo_);
     // kernel::ProjectionParams, member by member (a plain uniform struct has no buffer layout).
     glProgramUniform1f(p, uniformLocation(p, "params.depthTolerance"), project.depthTolerance);
@@ -151,8 +174,9 @@ void ProbeProjectionPass::setDiagnostics(bool on) {
 }
 
 std::size_t ProbeProjectionPass::ownGpuBytes() const {
-    // cells_, counters_ and the shares' read-back ring
-    return grid_->table().size() * sizeof(std::uint32_t) + (1 + kSharesRing) * sizeof(kernel::PassCounters);
+    // cells_, nearestCells_, counters_ and the shares' read-back ring
+    return (grid_->table().size() + nearest_->table().size()) * sizeof(std::uint32_t) +
+           (1 + kSharesRing) * sizeof(kernel::PassCounters);
 }
 
 std::size_t ProbeProjectionPass::gpuBytes() const {
@@ -168,7 +192,8 @@ std::size_t ProbeProjectionPass::allocatedGpuBytes() const {
         glGetTextureLevelParameteriv(diagnosticsImage_.id(), 0, GL_TEXTURE_HEIGHT, &h);
         diagnostics = std::size_t(w) * std::size_t(h) * 16;
     }
-    return residency_->allocatedGpuBytes() + glBufferBytes(cells_.id()) + glBufferBytes(counters_.id()) +
+    return residency_->allocatedGpuBytes() + glBufferBytes(cells_.id()) + glBufferBytes(nearestCells_.id()) +
+           glBufferBytes(counters_.id()) +
            glBufferBytes(sharesRing_.id()) + diagnostics;
 }
 
@@ -180,16 +205,15 @@ void ProbeProjectionPass::setFallback(std::unique_ptr<AoFallback> fallback) {
             glProgramUniform1f(program->id(), uniformLocation(program->id(), "uncoveredAo"), uncoveredAo_);
 }
 
-void ProbeProjectionPass::uploadCells(std::span<const std::size_t> cells) {
-    const std::size_t k = std::size_t(candidates_);
-    for (std::size_t i = 0; i < cells.size();) {  // runs of consecutive cells, one write each
-        std::size_t j = i + 1;
-        while (j < cells.size() && cells[j] == cells[j - 1] + 1) ++j;
-        glNamedBufferSubData(cells_.id(), GLintptr(cells[i] * k * sizeof(std::uint32_t)),
-                             GLsizeiptr((cells[j - 1] - cells[i] + 1) * k * sizeof(std::uint32_t)),
-                             grid_->table().data() + cells[i] * k);
-        i = j;
-    }
+void ProbeProjectionPass::updateResidentLists() {
+    if (residency_->residentVersion() == nearestVersion_) return;
+    nearestVersion_ = residency_->residentVersion();
+    std::vector<std::uint32_t> ids;
+    std::vector<glm::vec3> positions;
+    for (std::uint32_t id = 0; id < source_.size(); ++id)
+        if (residency_->isResident(id)) ids.push_back(id), positions.push_back(source_.position(id));
+    const std::vector<std::size_t> changed = nearest_->assign(ids, positions);
+    uploadCells(nearestCells_.id(), nearest_->table(), std::size_t(nearest_->k()), changed);
 }
 
 std::uint32_t ProbeProjectionPass::addProbe(ProbeRecord probe) {
@@ -198,7 +222,7 @@ std::uint32_t ProbeProjectionPass::addProbe(ProbeRecord probe) {
     const std::vector<std::size_t> changed = grid_->addProbe(position);
     if (grid_->probeCount() != source_.size()) throw Error("ProbeProjectionPass: probe ids out of step");
     residency_->syncProbes(source_);
-    uploadCells(changed);
+    uploadCells(cells_.id(), grid_->table(), std::size_t(candidates_), changed);
     return id;
 }
 
@@ -206,7 +230,7 @@ void ProbeProjectionPass::removeProbe(std::uint32_t id) {
     source_.remove(id);
     const std::vector<std::size_t> changed = grid_->removeProbe(id);
     residency_->syncProbes(source_);
-    uploadCells(changed);
+    uploadCells(cells_.id(), grid_->table(), std::size_t(candidates_), changed);
 }
 
 // The probes to keep resident, most wanted first: those the pixels of the newest reported frame used
@@ -283,6 +307,7 @@ std::vector<std::uint32_t> ProbeProjectionPass::wantedProbes(const CameraView& v
 void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) {
     residency_->update(source_, wantedProbes(view), unbounded_);
     unbounded_ = false;
+    updateResidentLists();
     const GLuint p = diagnostics_ ? diagnosticsProgram_.id() : program_.id();
     glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
     glProgramUniform1i(p, uniformLocation(p, "tilesX"), atlas().tilesX);  // the atlas grows with an unlimited budget
@@ -298,6 +323,7 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
     glBindImageTexture(kernel::kAoImageUnit, aoImage, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kPassCountersBuffer, counters_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kCandidateBuffer, cells_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kResidentCandidateBuffer, nearestCells_.id());
     if (diagnostics_) {
         if (diagnosticsWidth_ != gbuffer.width() || diagnosticsHeight_ != gbuffer.height()) {
             diagnosticsImage_ = gl::Texture::create(GL_TEXTURE_2D);

@@ -19,6 +19,7 @@
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/runtime/ao_pass.h"
+#include "cubeao/runtime/nearest_lists.h"
 #include "cubeao/runtime/probe_grid.h"
 #include "cubeao/runtime/probe_residency.h"
 #include "cubeao/runtime/projection.h"
@@ -30,6 +31,10 @@ struct ProbeProjectionSettings {
     ResidencySettings residency;
     // Frames the residency looks ahead along the camera's motion when it ranks probes.
     float lookaheadFrames = 8.0f;
+    // The second list (nearest_lists.h): a pixel none of whose cell's candidates is resident and sees it
+    // tries the residentCandidates resident probes nearest its coarse cell (cells of 2 grid cells at
+    // least) before the screen-space fallback; 0 = no second list.
+    int residentCandidates = 8;
 };
 
 class ProbeProjectionPass : public AoPass {
@@ -94,6 +99,7 @@ public:
     double uncoveredFraction() const { return pixelShares().uncovered; }
 
     const ProbeGrid& grid() const { return *grid_; }
+    const NearestProbeLists& residentLists() const { return *nearest_; }
     const ProbeSource& source() const { return source_; }
     const ProbeResidency& residency() const { return *residency_; }
     const ProbeAtlasLayout& atlas() const { return residency_->atlas(); }
@@ -109,7 +115,7 @@ private:
                         std::size_t expectedProbes);
     std::vector<std::uint32_t> wantedProbes(const CameraView& view);
     std::size_t ownGpuBytes() const;  // the candidate grid and the counters: what the residency does not hold
-    void uploadCells(std::span<const std::size_t> cells);
+    void updateResidentLists();  // the second list over the pool's probes, when the pool changed
     void configureProgram(GLuint program) const;  // the uniforms that stay for the pass's life
 
     ProbeSource source_;
@@ -117,6 +123,8 @@ private:
     int res_ = 0, depthRes_ = 0, candidates_ = 0;
     std::unique_ptr<ProbeGrid> grid_;
     std::unique_ptr<ProbeResidency> residency_;
+    std::unique_ptr<NearestProbeLists> nearest_;
+    std::uint64_t nearestVersion_ = ~std::uint64_t(0);  // the residency's residentVersion() they were built for
     std::unique_ptr<AoFallback> fallback_;
     gl::Program program_;
     gl::Program diagnosticsProgram_;  // project.comp with PROJECT_DIAGNOSTICS, built on first use
@@ -124,7 +132,7 @@ private:
     int diagnosticsWidth_ = 0, diagnosticsHeight_ = 0;
     bool diagnostics_ = false;
     float uncoveredAo_ = 1.0f;  // what project.comp writes for an uncovered pixel (setFallback)
-    gl::Buffer cells_, counters_;
+    gl::Buffer cells_, nearestCells_, counters_;
     // latestPixelShares' ring: slot r of sharesRing_ holds the counters of run() number sharesSerial_[r].
     gl::Buffer sharesRing_;
     const void* sharesMapped_ = nullptr;  // kSharesRing kernel::PassCounters, persistently mapped

@@ -257,11 +257,14 @@ void ProbeResidency::ensureCapacity(std::size_t probes) {
     if (!staging_->feedbackWords) throw Error("probe residency: cannot map the feedback buffer");
 }
 
+bool ProbeResidency::isResident(std::uint32_t id) const { return id < slotOf_.size() && slotOf_[id] != kNoSlot; }
+
 void ProbeResidency::writeEntry(std::uint32_t id, const ProbeSource& source) {
     kernel::ProbeEntry e{};
     e.position = source.position(id);
     e.distanceScale = source.distanceScale(id);
     e.slot = slotOf_[id];
+    ++residentVersion_;  // called whenever a probe's slot changes
     glNamedBufferSubData(table_.id(), GLintptr(id * sizeof e), sizeof e, &e);
 }
 

@@ -129,6 +129,9 @@ public:
     // it or had to pass over it while it was not resident.
     std::int64_t lastUsed(std::uint32_t id) const { return id < lastUsed_.size() ? lastUsed_[id] : -1; }
     std::uint32_t demand(std::uint32_t id) const { return id < demand_.size() ? demand_[id] : 0u; }
+    bool isResident(std::uint32_t id) const;
+    // Changes whenever a probe enters or leaves the pool (a load, an eviction, a removal).
+    std::uint64_t residentVersion() const { return residentVersion_; }
 
     // Binds the atlases, the probe table and this frame's feedback buffer (cleared) for the
     // projection; endFrame() fences the feedback after the dispatch.
@@ -166,6 +169,7 @@ private:
     std::vector<std::int64_t> loadedAt_;      // per probe id: frame of its last load
     std::unique_ptr<Staging> staging_;
     std::int64_t frame_ = 0;
+    std::uint64_t residentVersion_ = 0;
     std::size_t atlasBytes_ = 0;
     ResidencyStats stats_;
 };
