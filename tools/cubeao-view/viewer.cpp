@@ -307,8 +307,8 @@ void Viewer::buildPipelines() {
     } else {
         method = std::make_unique<SsaoPass>(ssao_);
     }
-    main_ = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, std::move(method), BlurSettings{},
-                                            composite_);
+    const BlurSettings blur = methodBlurSettings(method->name());
+    main_ = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, std::move(method), blur, composite_);
 }
 
 FramePipeline& Viewer::baselinePipeline(const std::string& name) {
@@ -318,7 +318,7 @@ FramePipeline& Viewer::baselinePipeline(const std::string& name) {
         s.method = parseSsaoMethod(name);
         s = resolveSsaoSettings(s, scene_.defaultRadius());
         p = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, std::make_unique<SsaoPass>(s),
-                                            BlurSettings{}, composite_);
+                                            methodBlurSettings(name), composite_);
     }
     return *p;
 }

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <spdlog/spdlog.h>
@@ -33,7 +34,8 @@ namespace fs = std::filesystem;
 
 struct RenderArgs {
     std::string scene, camera, out, cache, frames, method, falloff = "none";  // method "": withDefaults
-    int width = 0, height = 0, directions = 0, steps = 0, blur = BlurSettings{}.radius;
+    int width = 0, height = 0, directions = 0, steps = 0;
+    std::optional<int> blur;  // unset: the method's own (methodBlurSettings)
     float radius = 0.0f, alpha = 1.0f, alchemySigma = 0.0f;
     double gpuBudgetMb = 0.0, uploadMb = 0.0;  // probes: 0 = everything resident; 0 = the default bound
     std::string fallback = "gtao";
@@ -79,7 +81,8 @@ PassSettings usageChecked(const RenderArgs& a) {
     checkImageSizeOptions(a.width, a.height);
     checkRange("--directions", a.directions, 0, 64, " (0: 8; even)");
     checkRange("--steps", a.steps, 0, 64, " (0: 8)");
-    p.blur.radius = a.blur;
+    p.blur = methodBlurSettings(a.method);
+    if (a.blur) p.blur.radius = *a.blur;
     validateBlurSettings(p.blur);
     if (!(a.alpha >= 0.0f && a.alpha <= 1.0f)) throw UsageError("--alpha must lie in [0, 1]");
     if (!a.cache.empty() && a.method != "probes")
@@ -236,7 +239,8 @@ void addRender(CLI::App& app) {
     cmd->add_option("--directions", a->directions, "Screen directions N_d, even (default 8)");
     cmd->add_option("--steps", a->steps, "March steps per direction N_s (default 8)");
     cmd->add_option("--alchemy-sigma", a->alchemySigma, "Alchemy intensity sigma (default 0.8)");
-    cmd->add_option("--blur", a->blur, "Blur taps on each side per pass, 0 = off")->capture_default_str();
+    cmd->add_option("--blur", a->blur,
+                    "Blur taps on each side per pass, 0 = off (default: 1 for probes, 2 otherwise)");
     cmd->add_option("--alpha", a->alpha, "AO strength in the preview: i = i_s((1-a) + a*ao)")->capture_default_str();
     cmd->add_option("--seed", a->seed, "Changes every pixel's jitter");
     cmd->add_option("--gpu-budget-mb", a->gpuBudgetMb,

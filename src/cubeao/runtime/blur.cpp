@@ -10,6 +10,12 @@
 
 namespace cubeao {
 
+BlurSettings methodBlurSettings(std::string_view method) {
+    BlurSettings s;
+    if (method == "probes") s.radius = 1;
+    return s;
+}
+
 void validateBlurSettings(const BlurSettings& s) {
     std::vector<std::string> problems;
     if (s.radius < 0 || s.radius > 32) problems.push_back("--blur " + std::to_string(s.radius) + ": expected 0..32 taps");

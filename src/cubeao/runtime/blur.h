@@ -19,6 +19,8 @@
 // written again here because the shader's reads are texture fetches and the twin's an Image.
 #pragma once
 
+#include <string_view>
+
 #include "cubeao/gl/handles.h"
 #include "cubeao/core/image.h"
 #include "cubeao/runtime/camera_gbuffer.h"
@@ -31,6 +33,15 @@ struct BlurSettings {
     float normalPower = 10.0f;  // k_n, paper 000 fig. 3.2.2
     float depthTolerance = 0.1f;  // τ, fraction of the centre's view depth, paper 002 listing 3.16
 };
+
+// The blur a method ships with (`render` without --blur, the viewer, `bench render`): 1 tap a side for
+// the probes, the default 2 for the screen-space methods. The probes' error is fixed in the world and
+// changes at texel scale; a wider blur smears their crease and contact darkening, which the
+// reference keeps, while the screen-space methods' noise wants it. On both shared walks (every frame
+// at 160×90, 512² probes, docs/BENCHMARKS.md "Flicker") 1 tap beats 0, 2 and 3 in MAE and flicker
+// (Sibenik 0.0155 / 0.0230 against 0.0203 / 0.0274 at 2), and gtao is best at 2 (MAE; its flicker is
+// within 1 % at 3).
+BlurSettings methodBlurSettings(std::string_view method);
 
 // Checks ranges, listing every problem in one UsageError.
 void validateBlurSettings(const BlurSettings& s);
