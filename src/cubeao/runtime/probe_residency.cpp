@@ -20,6 +20,7 @@ namespace {
 constexpr std::size_t kFeedbackRing = 3;  // feedback read 2 frames late at the latest
 constexpr std::size_t kStagingRegions = 2;
 constexpr std::size_t kDefaultUploadBytes = std::size_t(8) << 20;
+constexpr std::size_t kReleaseBytes = std::size_t(64) << 20;  // unbounded updates drop cache pages this often
 // Eviction hysteresis: a probe used within kInUseFrames frames is replaced only by one whose demand
 // exceeds kSwapMargin times its own plus kSwapMinimum sampled pixels.
 constexpr std::int64_t kInUseFrames = 8;
@@ -358,7 +359,7 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
     std::vector<bool> isWanted;  // over ids, only when a slot must be freed
     std::vector<std::uint32_t> victims;
     bool victimsMade = false;
-    std::size_t nextFree = 0;
+    std::size_t nextFree = 0, releasedAt = 0;
     const std::size_t perProbe = probeGpuBytes(params_);
     GLint unpackAlignment = 4;
     glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
@@ -406,6 +407,13 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
             --stats_.resident;
         }
         upload(source, id, slot, unbounded);
+        // An unbounded update (the first frame, a cut) reads every probe it loads straight from the
+        // mapping: drop the pages every kReleaseBytes, or the whole pool's worth stays resident
+        // until the end of the batch (peak RSS = pool + its copy in the page cache).
+        if (unbounded && stats_.frameUploadBytes - releasedAt >= kReleaseBytes) {
+            source.releaseAll();
+            releasedAt = stats_.frameUploadBytes;
+        }
         owner_[slot] = id;
         slotOf_[id] = slot;
         loadedAt_[id] = frame_;
