@@ -193,8 +193,7 @@ std::size_t ProbeProjectionPass::allocatedGpuBytes() const {
         diagnostics = std::size_t(w) * std::size_t(h) * 16;
     }
     return residency_->allocatedGpuBytes() + glBufferBytes(cells_.id()) + glBufferBytes(nearestCells_.id()) +
-           glBufferBytes(counters_.id()) +
-           glBufferBytes(sharesRing_.id()) + diagnostics;
+           glBufferBytes(counters_.id()) + glBufferBytes(sharesRing_.id()) + diagnostics;
 }
 
 void ProbeProjectionPass::setFallback(std::unique_ptr<AoFallback> fallback) {
@@ -206,7 +205,7 @@ void ProbeProjectionPass::setFallback(std::unique_ptr<AoFallback> fallback) {
 }
 
 void ProbeProjectionPass::updateResidentLists() {
-    if (residency_->residentVersion() == nearestVersion_) return;
+    if (settings_.residentCandidates <= 0 || residency_->residentVersion() == nearestVersion_) return;
     nearestVersion_ = residency_->residentVersion();
     std::vector<std::uint32_t> ids;
     std::vector<glm::vec3> positions;

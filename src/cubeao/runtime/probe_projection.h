@@ -2,9 +2,10 @@
 // grows"): the probes' texels stream into a pool of atlas slots under a GPU memory budget
 // (probe_residency.h), a world grid lists K candidate probes per cell (probe_grid.h), and the
 // projection pass (shaders/runtime/project.comp; per-point math and CPU twin in projection.h) shades
-// every pixel from the resident candidates of its cell. Probes can be added and removed while it
-// runs; a pixel no resident candidate sees is filled by a screen-space fallback (ao_pass.h
-// AoFallback) when one is attached, and counted.
+// every pixel from the resident candidates of its cell, or, when none of them sees it, from the
+// resident probes nearest it (nearest_lists.h). Probes can be added and removed while it runs; a
+// pixel no probe tried sees is filled by a screen-space fallback (ao_pass.h AoFallback) when one is
+// attached, and counted.
 #pragma once
 
 #include <array>
@@ -99,7 +100,6 @@ public:
     double uncoveredFraction() const { return pixelShares().uncovered; }
 
     const ProbeGrid& grid() const { return *grid_; }
-    const NearestProbeLists& residentLists() const { return *nearest_; }
     const ProbeSource& source() const { return source_; }
     const ProbeResidency& residency() const { return *residency_; }
     const ProbeAtlasLayout& atlas() const { return residency_->atlas(); }
