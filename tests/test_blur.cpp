@@ -6,6 +6,8 @@
 #include <memory>
 #include <random>
 
+#include <glm/trigonometric.hpp>
+
 #include "cubeao/gl/handles.h"
 #include "cubeao/runtime/blur.h"
 #include "cubeao/runtime/camera_gbuffer.h"
@@ -71,6 +73,18 @@ TEST(Blur, KeepsADepthStepAndSmoothsFlatNoise) {
     BlurSettings off;
     off.radius = 0;
     EXPECT_EQ(blurAoCpu(ao, s.g, s.view, off).pixels, ao.pixels);
+}
+
+// The probes' blur follows how many pixels a probe texel spans (blur.h): 1 tap up to 3, then 2.
+TEST(Blur, ProbesBlurOneTapUntilATexelSpansMoreThanThreePixels) {
+    const float tan30 = std::tan(glm::radians(30.0f));
+    EXPECT_EQ(probeBlurSettings(512, 90, tan30).radius, 1);   // the shared walks at 160x90: 0.3 px a texel
+    EXPECT_EQ(probeBlurSettings(128, 180, tan30).radius, 1);  // 2.4 px
+    EXPECT_EQ(probeBlurSettings(128, 360, tan30).radius, 2);  // the demo, 640x360 with 128² probes: 4.9 px
+    EXPECT_EQ(probeBlurSettings(100, 300, 1.0f).radius, 1);   // exactly 3 px
+    EXPECT_EQ(probeBlurSettings(100, 301, 1.0f).radius, 2);
+    EXPECT_EQ(probeBlurSettings(512, 90, 0.0f).radius, BlurSettings{}.radius) << "no field of view: the default";
+    EXPECT_EQ(BlurSettings{}.radius, 2) << "the screen-space methods' blur";
 }
 
 TEST(Blur, ShallowStepBleedsAtMostItsWeight) {

@@ -21,6 +21,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <glm/trigonometric.hpp>
 #include <glm/vec2.hpp>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
@@ -307,7 +308,11 @@ void Viewer::buildPipelines() {
     } else {
         method = std::make_unique<SsaoPass>(ssao_);
     }
-    const BlurSettings blur = methodBlurSettings(method->name());
+    // The probes' blur for the render size the window starts at.
+    BlurSettings blur;
+    if (const auto* probes = dynamic_cast<const ProbeProjectionPass*>(method.get()))
+        blur = probeBlurSettings(int(probes->source().params().res), int(float(o_.height) * o_.scale),
+                                 std::tan(glm::radians(camera_.fovYDeg) / 2.0f));
     main_ = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, std::move(method), blur, composite_);
 }
 
@@ -318,7 +323,7 @@ FramePipeline& Viewer::baselinePipeline(const std::string& name) {
         s.method = parseSsaoMethod(name);
         s = resolveSsaoSettings(s, scene_.defaultRadius());
         p = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, std::make_unique<SsaoPass>(s),
-                                            methodBlurSettings(name), composite_);
+                                            BlurSettings{}, composite_);
     }
     return *p;
 }

@@ -36,6 +36,7 @@
 #include <unistd.h>
 
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <spdlog/spdlog.h>
 
 #include "cli_util.h"
@@ -271,6 +272,7 @@ struct Timed {
         row["timings_ms"] = timingsJson(timings);
         row["fetches_per_pixel"] = fetches / n;
         row["blur_fetches_per_pixel"] = renderer->blur().fetchesPerPixel();
+        row["blur_taps"] = renderer->blur().settings().radius;
         if (row.contains("probes")) {
             row["uncovered_fraction"] = uncovered / n;
             row["screen_space_fraction"] = screenSpace / n;
@@ -288,13 +290,15 @@ struct Bench {
     const Scene& scene;
     const CameraPath& path;
     std::vector<std::size_t> frames;
-    BlurSettings blur;       // the screen-space methods'
-    BlurSettings probeBlur;  // the probes' (methodBlurSettings)
+    BlurSettings blur;  // the screen-space methods'; the probes' from their resolution (probeBlurSettings)
     CompositeSettings composite;
 
     std::unique_ptr<Timed> timed(nlohmann::json row, std::unique_ptr<AoPass> pass,
                                  std::unique_ptr<CacheReader> cache = nullptr, fs::path removeAfter = {}) const {
-        const BlurSettings passBlur = std::string_view(pass->name()) == "probes" ? probeBlur : blur;
+        BlurSettings passBlur = blur;
+        if (const auto* probes = dynamic_cast<const ProbeProjectionPass*>(pass.get()))
+            passBlur = probeBlurSettings(int(probes->source().params().res), args.height,
+                                         std::tan(glm::radians(path.fovYDeg) / 2.0f));
         auto renderer =
             std::make_unique<FrameRenderer>(scene.positions, scene.indices, std::move(pass), passBlur, composite);
         return std::make_unique<Timed>(std::move(row), std::move(renderer), path, frames[0], args.width, args.height,
@@ -476,14 +480,11 @@ void run(const RenderBenchArgs& a) {
     std::string whyNot;
     const std::optional<gl::HeadlessContext> context = gl::HeadlessContext::tryCreate(&whyNot);
     if (!context) throw Error("bench render needs an OpenGL 4.5 context: " + whyNot);
-    const Bench bench{a, scene, path, benchFrames(path, a.frames), methodBlurSettings("gtao"), methodBlurSettings("probes"),
-                      compositeFor(scene, 1.0f)};
+    const Bench bench{a, scene, path, benchFrames(path, a.frames), BlurSettings{}, compositeFor(scene, 1.0f)};
     const std::set<std::size_t> counts(a.probes.begin(), a.probes.end());
     const bool wall = gl::trustedClock() == gl::GpuClock::WallClock;
-    std::printf("bench render: %s, %dx%d, %zu frames x %d interleaved rounds (median), blur %d (probes %d), on %s (%s); "
-                "ms per pass:\n",
+    std::printf("bench render: %s, %dx%d, %zu frames x %d interleaved rounds (median), blur %d, on %s (%s); ms per pass:\n",
                 scene.source.c_str(), a.width, a.height, bench.frames.size(), a.rounds, bench.blur.radius,
-                bench.probeBlur.radius,
                 context->renderer().c_str(),
                 wall ? "wall clock around glFinish" : "GL timer queries");
     printHeader();
@@ -548,7 +549,6 @@ void run(const RenderBenchArgs& a) {
                    {"rounds", a.rounds},
                    {"radius", scene.defaultRadius()},
                    {"blur", bench.blur.radius},
-                   {"blur_probes", bench.probeBlur.radius},
                    {"renderer", context->renderer()},
                    {"clock", wall ? "wall_clock_glfinish" : "gl_timer_query"},
                    {"methods", methods},

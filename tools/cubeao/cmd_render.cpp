@@ -10,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include <glm/trigonometric.hpp>
 #include <spdlog/spdlog.h>
 
 #include "cli_util.h"
@@ -35,7 +36,7 @@ namespace fs = std::filesystem;
 struct RenderArgs {
     std::string scene, camera, out, cache, frames, method, falloff = "none";  // method "": withDefaults
     int width = 0, height = 0, directions = 0, steps = 0;
-    std::optional<int> blur;  // unset: the method's own (methodBlurSettings)
+    std::optional<int> blur;  // unset: 2, for the probes probeBlurSettings
     float radius = 0.0f, alpha = 1.0f, alchemySigma = 0.0f;
     double gpuBudgetMb = 0.0, uploadMb = 0.0;  // probes: 0 = everything resident; 0 = the default bound
     std::string fallback = "gtao";
@@ -81,7 +82,6 @@ PassSettings usageChecked(const RenderArgs& a) {
     checkImageSizeOptions(a.width, a.height);
     checkRange("--directions", a.directions, 0, 64, " (0: 8; even)");
     checkRange("--steps", a.steps, 0, 64, " (0: 8)");
-    p.blur = methodBlurSettings(a.method);
     if (a.blur) p.blur.radius = *a.blur;
     validateBlurSettings(p.blur);
     if (!(a.alpha >= 0.0f && a.alpha <= 1.0f)) throw UsageError("--alpha must lie in [0, 1]");
@@ -151,6 +151,8 @@ void run(const RenderArgs& a) {
     const SsaoSettings ssao = resolveSsaoSettings(settings.ssao, scene.defaultRadius());
     int w = 0, h = 0;
     resolveImageSize(a.width, a.height, path, w, h);
+    if (cache && !a.blur)
+        settings.blur = probeBlurSettings(int(cache->params().res), h, std::tan(glm::radians(path.fovYDeg) / 2.0f));
     fs::create_directories(a.out);
 
     const gl::HeadlessContext context = gl::HeadlessContext::create();
@@ -240,7 +242,8 @@ void addRender(CLI::App& app) {
     cmd->add_option("--steps", a->steps, "March steps per direction N_s (default 8)");
     cmd->add_option("--alchemy-sigma", a->alchemySigma, "Alchemy intensity sigma (default 0.8)");
     cmd->add_option("--blur", a->blur,
-                    "Blur taps on each side per pass, 0 = off (default: 1 for probes, 2 otherwise)");
+                    "Blur taps on each side per pass, 0 = off (default 2; probes: 1 while a probe texel spans at most 3 "
+                    "pixels)");
     cmd->add_option("--alpha", a->alpha, "AO strength in the preview: i = i_s((1-a) + a*ao)")->capture_default_str();
     cmd->add_option("--seed", a->seed, "Changes every pixel's jitter");
     cmd->add_option("--gpu-budget-mb", a->gpuBudgetMb,

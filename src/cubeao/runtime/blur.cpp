@@ -1,5 +1,6 @@
 #include "cubeao/runtime/blur.h"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -10,9 +11,10 @@
 
 namespace cubeao {
 
-BlurSettings methodBlurSettings(std::string_view method) {
+BlurSettings probeBlurSettings(int res, int height, float tanHalfFovY) {
     BlurSettings s;
-    if (method == "probes") s.radius = 1;
+    const double pixelsPerTexel = double(height) / (double(std::max(res, 1)) * double(tanHalfFovY));
+    if (pixelsPerTexel <= 3.0) s.radius = 1;  // also when the field of view is degenerate (inf, NaN: 2)
     return s;
 }
 

@@ -19,8 +19,6 @@
 // written again here because the shader's reads are texture fetches and the twin's an Image.
 #pragma once
 
-#include <string_view>
-
 #include "cubeao/gl/handles.h"
 #include "cubeao/core/image.h"
 #include "cubeao/runtime/camera_gbuffer.h"
@@ -34,14 +32,16 @@ struct BlurSettings {
     float depthTolerance = 0.1f;  // τ, fraction of the centre's view depth, paper 002 listing 3.16
 };
 
-// The blur a method ships with (`render` without --blur, the viewer, `bench render`): 1 tap a side for
-// the probes, the default 2 for the screen-space methods. The probes' error is fixed in the world and
-// changes at texel scale; a wider blur smears their crease and contact darkening, which the
-// reference keeps, while the screen-space methods' noise wants it. On both shared walks (every frame
-// at 160×90, 512² probes, docs/BENCHMARKS.md "Flicker") 1 tap beats 0, 2 and 3 in MAE and flicker
-// (Sibenik 0.0155 / 0.0230 against 0.0203 / 0.0274 at 2), and gtao is best at 2 (MAE; its flicker is
-// within 1 % at 3).
-BlurSettings methodBlurSettings(std::string_view method);
+// The probes' blur (`render` without --blur, the viewer, `bench render`; the screen-space methods keep
+// BlurSettings{}, 2 taps): 1 tap a side while one probe texel, at the probe's distance from the
+// surface seen from as far by the camera, spans at most 3 pixels (height / (res · tan(fovY / 2)) ≤ 3),
+// else 2. The probes' error is fixed in the world at texel scale: where texels are smaller than a few
+// pixels a wider blur only smears the crease darkening the reference keeps; where they are larger
+// it hides their steps. Measured against Embree references (docs/BENCHMARKS.md "Current figures"):
+// 1 tap wins in MAE and flicker at 0.3–1.2 pixels per texel (Sibenik and FZK-Haus at 512² and 256²,
+// 160×90 and 320×180; the cloister's 128² at 160×90), ties at 2.4 (128², 320×180), loses at 4.9
+// (128², 640×360: the demo).
+BlurSettings probeBlurSettings(int res, int height, float tanHalfFovY);
 
 // Checks ranges, listing every problem in one UsageError.
 void validateBlurSettings(const BlurSettings& s);
