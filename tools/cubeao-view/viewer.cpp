@@ -21,7 +21,6 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
-#include <glm/trigonometric.hpp>
 #include <glm/vec2.hpp>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
@@ -310,9 +309,11 @@ void Viewer::buildPipelines() {
     }
     // The probes' blur for the render size the window starts at.
     BlurSettings blur;
-    if (const auto* probes = dynamic_cast<const ProbeProjectionPass*>(method.get()))
-        blur = probeBlurSettings(int(probes->source().params().res), int(float(o_.height) * o_.scale),
-                                 std::tan(glm::radians(camera_.fovYDeg) / 2.0f));
+    if (const auto* probes = dynamic_cast<const ProbeProjectionPass*>(method.get())) {
+        const int height = int(float(o_.height) * o_.scale);
+        blur = probeBlurSettings(int(probes->source().params().res), height,
+                                 camera_.pinhole(int(float(o_.width) * o_.scale), height).tanHalfFovY);
+    }
     main_ = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, std::move(method), blur, composite_);
 }
 

@@ -36,7 +36,6 @@
 #include <unistd.h>
 
 #include <glm/geometric.hpp>
-#include <glm/trigonometric.hpp>
 #include <spdlog/spdlog.h>
 
 #include "cli_util.h"
@@ -298,7 +297,7 @@ struct Bench {
         BlurSettings passBlur = blur;
         if (const auto* probes = dynamic_cast<const ProbeProjectionPass*>(pass.get()))
             passBlur = probeBlurSettings(int(probes->source().params().res), args.height,
-                                         std::tan(glm::radians(path.fovYDeg) / 2.0f));
+                                         PinholeCamera(path, frames[0], args.width, args.height).tanHalfFovY);
         auto renderer =
             std::make_unique<FrameRenderer>(scene.positions, scene.indices, std::move(pass), passBlur, composite);
         return std::make_unique<Timed>(std::move(row), std::move(renderer), path, frames[0], args.width, args.height,

@@ -10,7 +10,6 @@
 #include <optional>
 #include <vector>
 
-#include <glm/trigonometric.hpp>
 #include <spdlog/spdlog.h>
 
 #include "cli_util.h"
@@ -152,7 +151,7 @@ void run(const RenderArgs& a) {
     int w = 0, h = 0;
     resolveImageSize(a.width, a.height, path, w, h);
     if (cache && !a.blur)
-        settings.blur = probeBlurSettings(int(cache->params().res), h, std::tan(glm::radians(path.fovYDeg) / 2.0f));
+        settings.blur = probeBlurSettings(int(cache->params().res), h, frameView(path, range.begin, w, h).tanHalfFovY);
     fs::create_directories(a.out);
 
     const gl::HeadlessContext context = gl::HeadlessContext::create();
@@ -242,8 +241,8 @@ void addRender(CLI::App& app) {
     cmd->add_option("--steps", a->steps, "March steps per direction N_s (default 8)");
     cmd->add_option("--alchemy-sigma", a->alchemySigma, "Alchemy intensity sigma (default 0.8)");
     cmd->add_option("--blur", a->blur,
-                    "Blur taps on each side per pass, 0 = off (default 2; probes: 1 while a probe texel spans at most 3 "
-                    "pixels)");
+                    "Blur taps on each side per pass, 0 = off (default 2; probes: 1 while a probe texel spans "
+                    "at most 3 pixels)");
     cmd->add_option("--alpha", a->alpha, "AO strength in the preview: i = i_s((1-a) + a*ao)")->capture_default_str();
     cmd->add_option("--seed", a->seed, "Changes every pixel's jitter");
     cmd->add_option("--gpu-budget-mb", a->gpuBudgetMb,
