@@ -87,6 +87,7 @@ TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
     EXPECT_EQ(variableOffset(p, "probes[0].position"), GLint(offsetof(k::ProbeEntry, position)));
     EXPECT_EQ(variableOffset(p, "probes[0].distanceScale"), GLint(offsetof(k::ProbeEntry, distanceScale)));
     EXPECT_EQ(variableOffset(p, "probes[0].slot"), GLint(offsetof(k::ProbeEntry, slot)));
+    EXPECT_EQ(variableOffset(p, "probes[0].tile"), GLint(offsetof(k::ProbeEntry, tile)));
     EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, "probes[0].position", GL_TOP_LEVEL_ARRAY_STRIDE),
               GLint(sizeof(k::ProbeEntry)));
     EXPECT_EQ(blockBinding(p, "Feedback"), k::kProbeFeedbackBuffer);

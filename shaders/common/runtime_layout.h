@@ -59,13 +59,27 @@ struct ProbeEntry {
     vec3 position;        // world space
     float distanceScale;  // a distance-atlas value times this is the distance (r16unorm: maxDistance; float formats: 1)
     uint slot;            // atlas slot holding its texels (probe_residency.h), kNoSlot = not resident
-    uint padding0;
+    uint tile;            // where that slot lies in the atlases (packAtlasTile), kNoSlot = not resident
     uint padding1;
     uint padding2;
 };
 
 // ProbeEntry::slot of a probe whose texels are not on the GPU.
 CUBEAO_CONST uint kNoSlot = 0xffffffffu;
+
+// ProbeEntry::tile: the slot's tile column x, row y and page p (probe_residency.h ProbeAtlasLayout)
+// packed as x | y << 11 | p << 22, so that the projection finds a texel with shifts and masks. Working
+// it out from the slot number takes three integer divisions by the atlas' shape, and a vector integer
+// division is a scalar loop on CPU SIMD: on llvmpipe that was a third of the projection pass. Columns
+// and rows below kMaxAtlasTiles, pages below 1024 (6 · pages layers; GL allows 2048 on llvmpipe and
+// NVIDIA), so no tile packs to kNoSlot.
+CUBEAO_CONST int kMaxAtlasTiles = 2048;
+CUBEAO_FN uint packAtlasTile(int x, int y, int page) { return uint(x) | (uint(y) << 11u) | (uint(page) << 22u); }
+
+// Texel corner (x, y) and first layer (6 faces from there) of a packed tile in an atlas of size² tiles.
+CUBEAO_FN ivec3 atlasTileCorner(uint tile, int size) {
+    return ivec3(int(tile & 0x7ffu) * size, int((tile >> 11u) & 0x7ffu) * size, 6 * int(tile >> 22u));
+}
 
 // An unused slot of a cell's candidate list (cells in x-fastest order, K slots each, best first).
 CUBEAO_CONST uint kNoProbe = 0xffffffffu;
@@ -132,7 +146,8 @@ namespace cubeao::kernel {
 static_assert(sizeof(PassCounters) == 32 && offsetof(PassCounters, fetchesHigh) == 4 &&
               offsetof(PassCounters, uncovered) == 8 && offsetof(PassCounters, fallbackProbe) == 12 &&
               offsetof(PassCounters, geometry) == 16);
-static_assert(sizeof(ProbeEntry) == 32 && offsetof(ProbeEntry, distanceScale) == 12 && offsetof(ProbeEntry, slot) == 16);
+static_assert(sizeof(ProbeEntry) == 32 && offsetof(ProbeEntry, distanceScale) == 12 && offsetof(ProbeEntry, slot) == 16 &&
+              offsetof(ProbeEntry, tile) == 20);
 static_assert(sizeof(FallbackTile) == 16 && offsetof(FallbackTile, mask1) == 4 &&
               offsetof(FallbackTile, listed) == 8);
 static_assert(sizeof(FallbackList) == 16 && offsetof(FallbackList, groupsZ) == 8 &&

@@ -5,8 +5,8 @@
 // common/projection.h (depth test, quality, soft best-two blend), whose C++ compilation is the CPU twin
 // (src/cubeao/runtime/projection.h). This file only supplies the reads: atlas textures and buffers.
 //
-// Residency (src/cubeao/runtime/probe_residency.h): a probe's texels sit in atlas slot
-// probes[id].slot, or nowhere (kNoSlot): the loop then passes it over and takes the next resident
+// Residency (src/cubeao/runtime/probe_residency.h): a probe's texels sit in atlas tile
+// probes[id].tile, or nowhere (kNoSlot): the loop then passes it over and takes the next resident
 // candidate. When none of the cell's candidates is resident and sees the point, it tries the second
 // list, the resident probes nearest the point's coarse cell (src/cubeao/runtime/nearest_lists.h).
 // A pixel none of those sees gets `uncoveredAo` (kUncoveredAo when a screen-space fallback fills it
@@ -59,8 +59,6 @@ uniform vec3 residentOrigin;
 uniform float residentCellSize;
 uniform ivec3 residentDims;
 uniform int residentPerCell;
-uniform int tilesX;
-uniform int tilesPerPage;
 uniform ProjectionParams params;
 uniform float uncoveredAo;
 
@@ -71,23 +69,21 @@ bool secondList = false;  // projectionCandidate reads the second list (from res
 uint residentBase = 0u;
 uint fetches = 0u;   // texture fetches of this invocation
 
-// Texel of direction sc on `face` of atlas slot `s` in an atlas of size² tiles.
-ivec3 atlasTexel(uint s, int face, vec2 sc, int size) {
-    int slot = int(s);
-    int tile = slot % tilesPerPage;
-    ivec2 corner = ivec2(tile % tilesX, tile / tilesX) * size;
-    return ivec3(corner + cubeTexelOf(sc, size), 6 * (slot / tilesPerPage) + face);
+// Texel of direction sc on `face` of packed atlas tile `tile` (runtime_layout.h) in an atlas of size² tiles.
+ivec3 atlasTexel(uint tile, int face, vec2 sc, int size) {
+    ivec3 corner = atlasTileCorner(tile, size);
+    return ivec3(corner.xy + cubeTexelOf(sc, size), corner.z + face);
 }
 
 void demandProbe(uint probe, uint weight) {
     if (probe != kNoProbe) atomicAdd(demand[probe], weight);
 }
 
-// The reads projectCandidates makes (common/projection.h).
+// The reads projectCandidates makes (common/projection.h); its "slot" is the packed tile here.
 uint projectionCandidate(int k) {
     return secondList ? residentCandidates[residentBase + uint(k)] : candidates[cellBase + uint(k)];
 }
-uint projectionSlot(uint probe) { return probes[probe].slot; }
+uint projectionSlot(uint probe) { return probes[probe].tile; }
 vec3 projectionProbePosition(uint probe) { return probes[probe].position; }
 float projectionDistance(uint probe, uint slot, int face, vec2 sc) {
     fetches += 1u;
@@ -103,7 +99,7 @@ vec2 projectionAoConfidence(uint slot, int face, vec2 sc) {
 vec4 probeDiagnostics(ProjectedAo projected, bool fallbackPath, vec3 x, vec3 n) {
     if (projected.used == 0) return vec4(-1.0, 0.0, 0.0, 3.0);
     uint probe = projected.probe0;
-    uint slot = probes[probe].slot;  // resident: projectCandidates just read it
+    uint slot = probes[probe].tile;  // resident: projectCandidates just read it
     vec3 d = x - probes[probe].position;
     float distance = length(d);
     float cosine = -dot(n, d) / distance;

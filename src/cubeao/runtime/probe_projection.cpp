@@ -309,8 +309,6 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
     updateResidentLists();
     const GLuint p = diagnostics_ ? diagnosticsProgram_.id() : program_.id();
     glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-    glProgramUniform1i(p, uniformLocation(p, "tilesX"), atlas().tilesX);  // the atlas grows with an unlimited budget
-    glProgramUniform1i(p, uniformLocation(p, "tilesPerPage"), atlas().tilesPerPage());
     glProgramUniform2i(p, uniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
     glProgramUniform1f(p, uniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
     const glm::mat4 worldFromView = view.worldFromView();

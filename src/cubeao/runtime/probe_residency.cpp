@@ -49,22 +49,27 @@ bool signalled(GLsync fence) {
     return r == GL_ALREADY_SIGNALED || r == GL_CONDITION_SATISFIED;
 }
 
-// Texel corner (x, y) and first layer of slot `slot`'s six faces in an atlas of size² tiles: the
-// layout project.comp's atlasTexel reads.
+// Texel corner (x, y) and first layer of slot `slot`'s six faces in an atlas of size² tiles: where
+// project.comp's atlasTexel reads them.
 glm::ivec3 slotCorner(const ProbeAtlasLayout& l, std::uint32_t slot, int size) {
-    const int tile = int(slot) % l.tilesPerPage();
-    return {tile % l.tilesX * size, tile / l.tilesX * size, 6 * (int(slot) / l.tilesPerPage())};
+    return kernel::atlasTileCorner(l.tile(slot), size);
 }
 
 }  // namespace
 
+std::uint32_t ProbeAtlasLayout::tile(std::uint32_t slot) const {
+    const int t = int(slot) % tilesPerPage();
+    return kernel::packAtlasTile(t % tilesX, t / tilesX, int(slot) / tilesPerPage());
+}
+
 ProbeAtlasLayout probeAtlasLayout(std::size_t slots, int res, int maxTextureSize, int maxLayers) {
-    const std::size_t perSide = std::size_t(std::max(1, maxTextureSize / std::max(res, 1)));
+    const std::size_t perSide =
+        std::size_t(std::clamp(maxTextureSize / std::max(res, 1), 1, kernel::kMaxAtlasTiles - 1));
     const std::size_t n = std::max<std::size_t>(slots, 1);
     const std::size_t x = std::min(perSide, std::size_t(std::ceil(std::sqrt(double(n)))));
     const std::size_t y = std::min(perSide, (n + x - 1) / x);
     const std::size_t pages = (n + x * y - 1) / (x * y);
-    if (6 * pages > std::size_t(std::max(maxLayers, 0)))
+    if (6 * pages > std::size_t(std::max(std::min(maxLayers, 6 * 1023), 0)))  // packAtlasTile: pages < 1024
         throw Error(std::to_string(slots) + " probes at " + std::to_string(res) + "² per face need " +
                     std::to_string(6 * pages) + " texture layers of " + std::to_string(x * std::size_t(res)) + "×" +
                     std::to_string(y * std::size_t(res)) + "; this GL allows " + std::to_string(maxLayers) +
@@ -218,7 +223,7 @@ void ProbeResidency::allocateAtlas(std::size_t slots, std::size_t budget) {
 
 // A pool twice the size (at least `slots`): new atlases, every resident probe's tiles copied on the
 // GPU to the same slot number in the new layout. Only without a budget.
-void ProbeResidency::growAtlas(std::size_t slots) {
+void ProbeResidency::growAtlas(std::size_t slots, const ProbeSource& source) {
     const ProbeAtlasLayout old = atlas_;
     gl::Texture oldAo = std::move(ao_), oldDistance = std::move(distance_);
     allocateAtlas(std::max(slots, 2 * slots_), 0);
@@ -230,6 +235,7 @@ void ProbeResidency::growAtlas(std::size_t slots) {
             glCopyImageSubData(from, GL_TEXTURE_2D_ARRAY, 0, a.x, a.y, a.z, to, GL_TEXTURE_2D_ARRAY, 0, b.x, b.y, b.z,
                                size, size, 6);
         }
+        writeEntry(owner_[s], source);  // same slot, another tile
     }
     stats_.slots = slots_;
 }
@@ -265,6 +271,7 @@ void ProbeResidency::writeEntry(std::uint32_t id, const ProbeSource& source) {
     e.position = source.position(id);
     e.distanceScale = source.distanceScale(id);
     e.slot = slotOf_[id];
+    e.tile = e.slot == kNoSlot ? kNoSlot : atlas_.tile(e.slot);
     ++residentVersion_;  // called whenever a probe's slot changes
     glNamedBufferSubData(table_.id(), GLintptr(id * sizeof e), sizeof e, &e);
 }
@@ -273,7 +280,7 @@ void ProbeResidency::syncProbes(const ProbeSource& source) {
     const std::size_t before = slotOf_.size();
     std::size_t live = 0;
     for (std::uint32_t id = 0; id < source.size(); ++id) live += source.isLive(id) ? 1 : 0;
-    if (unlimited_ && live > slots_ && table_.id() != 0) growAtlas(live);
+    if (unlimited_ && live > slots_ && table_.id() != 0) growAtlas(live, source);
     ensureCapacity(source.size());
     stats_.gpuBytes = atlasBytes_ + kStagingRegions * uploadBound_ + capacity_ * sizeof(kernel::ProbeEntry) +
                       staging_->feedbackBytes;  // what allocateAtlas and ensureCapacity hold now
@@ -285,7 +292,7 @@ void ProbeResidency::syncProbes(const ProbeSource& source) {
         std::vector<kernel::ProbeEntry> entries(source.size() - before);
         for (std::size_t i = 0; i < entries.size(); ++i) {
             const auto id = std::uint32_t(before + i);
-            entries[i] = {source.position(id), source.distanceScale(id), kNoSlot, 0u, 0u, 0u};
+            entries[i] = {source.position(id), source.distanceScale(id), kNoSlot, kNoSlot, 0u, 0u};
         }
         glNamedBufferSubData(table_.id(), GLintptr(before * sizeof(kernel::ProbeEntry)),
                              GLsizeiptr(entries.size() * sizeof(kernel::ProbeEntry)), entries.data());

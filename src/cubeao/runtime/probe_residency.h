@@ -35,10 +35,13 @@ namespace cubeao {
 struct ProbeAtlasLayout {
     int tilesX = 1, tilesY = 1, pages = 1;
     int tilesPerPage() const { return tilesX * tilesY; }
+    // Slot `slot`'s tile packed as the projection reads it (ProbeEntry::tile, kernel::packAtlasTile).
+    std::uint32_t tile(std::uint32_t slot) const;
 };
 
 // A near-square page just big enough for `slots` (tilesX = ⌈√slots⌉), at most maxTextureSize / res
-// tiles a side, then more pages. Error naming the counts when 6 · pages exceeds maxLayers.
+// (and kernel::kMaxAtlasTiles) tiles a side, then more pages. Error naming the counts when 6 · pages
+// exceeds maxLayers.
 ProbeAtlasLayout probeAtlasLayout(std::size_t slots, int res, int maxTextureSize, int maxLayers);
 
 // Probes by id: the cache's probes first (id = cache order), then those added at run time. Removed
@@ -150,7 +153,7 @@ private:
     struct Staging;
     void ensureCapacity(std::size_t probes);
     void allocateAtlas(std::size_t slots, std::size_t budget);
-    void growAtlas(std::size_t slots);
+    void growAtlas(std::size_t slots, const ProbeSource& source);
     void writeEntry(std::uint32_t id, const ProbeSource& source);
     void readFeedback();
     void upload(const ProbeSource& source, std::uint32_t id, std::uint32_t slot, bool direct);
