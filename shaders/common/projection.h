@@ -130,4 +130,14 @@ CUBEAO_FN ivec3 candidateCellOf(vec3 x, vec3 origin, float cellSize, ivec3 dims)
     return clamp(ivec3(floor((x - origin) / cellSize)), ivec3(0), dims - 1);
 }
 
+// The other way, for the C++ grids that fill the lists: the cell of x-fastest index `index`, and a
+// cell's centre.
+CUBEAO_FN ivec3 candidateCellCoordinates(uint index, ivec3 dims) {
+    uint dx = uint(dims.x), dy = uint(dims.y);
+    return ivec3(int(index % dx), int((index / dx) % dy), int(index / (dx * dy)));
+}
+CUBEAO_FN vec3 candidateCellCentre(ivec3 cell, vec3 origin, float cellSize) {
+    return origin + (vec3(cell) + 0.5f) * cellSize;
+}
+
 CUBEAO_KERNEL_END

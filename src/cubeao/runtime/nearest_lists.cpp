@@ -34,9 +34,7 @@ std::span<const std::uint32_t> NearestProbeLists::cellList(std::size_t c) const 
 }
 
 glm::vec3 NearestProbeLists::cellCentre(std::size_t c) const {
-    const std::size_t x = c % std::size_t(dims_.x), y = (c / std::size_t(dims_.x)) % std::size_t(dims_.y),
-                      z = c / (std::size_t(dims_.x) * std::size_t(dims_.y));
-    return origin_ + (glm::vec3(float(x), float(y), float(z)) + 0.5f) * cell_;
+    return kernel::candidateCellCentre(kernel::candidateCellCoordinates(std::uint32_t(c), dims_), origin_, cell_);
 }
 
 std::vector<std::size_t> NearestProbeLists::assign(std::span<const std::uint32_t> ids,
@@ -64,9 +62,8 @@ std::vector<std::size_t> NearestProbeLists::assign(std::span<const std::uint32_t
     std::vector<std::uint32_t> list(k);
     const int maxRing = std::max({dims_.x, dims_.y, dims_.z});
     for (std::size_t c = 0; c < cells; ++c) {
-        const glm::vec3 centre = cellCentre(c);
-        const glm::ivec3 at(int(c % std::size_t(dims_.x)), int((c / std::size_t(dims_.x)) % std::size_t(dims_.y)),
-                            int(c / (std::size_t(dims_.x) * std::size_t(dims_.y))));
+        const glm::ivec3 at = kernel::candidateCellCoordinates(std::uint32_t(c), dims_);
+        const glm::vec3 centre = kernel::candidateCellCentre(at, origin_, cell_);
         found.clear();
         std::size_t visited = 0;
         const auto take = [&](int x, int y, int z) {

@@ -134,9 +134,7 @@ ProbeGrid::ProbeGrid(const glm::vec3& boundsMin, const glm::vec3& boundsMax, std
 }
 
 glm::vec3 ProbeGrid::cellCentre(std::size_t c) const {
-    const std::size_t x = c % std::size_t(dims_.x), y = (c / std::size_t(dims_.x)) % std::size_t(dims_.y),
-                      z = c / (std::size_t(dims_.x) * std::size_t(dims_.y));
-    return origin_ + (glm::vec3(float(x), float(y), float(z)) + 0.5f) * cell_;
+    return kernel::candidateCellCentre(kernel::candidateCellCoordinates(std::uint32_t(c), dims_), origin_, cell_);
 }
 
 void ProbeGrid::choose(std::size_t cell) {
