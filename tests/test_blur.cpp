@@ -2,12 +2,14 @@
 // reduced, GPU == CPU twin.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
 
 #include <glm/trigonometric.hpp>
 
+#include "cubeao/core/error.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/runtime/blur.h"
 #include "cubeao/runtime/camera_gbuffer.h"
@@ -148,6 +150,49 @@ TEST_F(RuntimeGl, BlurKeepsARenderedDepthStep) {
             }
             EXPECT_NEAR(gpu.at(x, y), cpu.at(x, y), 1e-4f);
         }
+}
+
+// The viewer re-chooses the probes' width when its window is resized: new settings on a built Blur
+// give what a Blur built with them gives (the CPU twin), and invalid ones are refused and change nothing.
+TEST_F(RuntimeGl, BlurTakesNewSettingsBetweenRuns) {
+    const Scene& scene = boxRoom();
+    FrameRenderer r(scene.positions, scene.indices,
+                    std::make_unique<SsaoPass>(methodSettings(SsaoMethod::Gtao, scene.defaultRadius())),
+                    BlurSettings{}, compositeSettings());
+    const CameraView view = viewOf(boxRoomPath(), 5, 96, 54);
+    r.render(view, 5);
+    const Image raw = r.readRawAo();
+    const CameraGBufferImage g = r.gbuffer().readBack();
+    gl::Texture in = gl::Texture::create(GL_TEXTURE_2D), out = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(in.id(), 1, GL_R32F, raw.width, raw.height);
+    glTextureStorage2D(out.id(), 1, GL_R32F, raw.width, raw.height);
+    glTextureSubImage2D(in.id(), 0, 0, 0, raw.width, raw.height, GL_RED, GL_FLOAT, raw.pixels.data());
+    const auto run = [&](Blur& blur) {
+        blur.run(r.gbuffer(), view, in.id(), out.id());
+        Image gpu(raw.width, raw.height);
+        glGetTextureImage(out.id(), 0, GL_RED, GL_FLOAT, GLsizei(gpu.pixels.size() * sizeof(float)), gpu.pixels.data());
+        return gpu;
+    };
+    const auto worstDifference = [](const Image& a, const Image& b) {
+        float worst = 0.0f;
+        for (std::size_t i = 0; i < a.pixels.size(); ++i) worst = std::max(worst, std::abs(a.pixels[i] - b.pixels[i]));
+        return worst;
+    };
+    Blur blur(BlurSettings{});
+    const Image two = run(blur);
+    EXPECT_LT(worstDifference(two, blurAoCpu(raw, g, view, BlurSettings{})), 1e-4f);
+    BlurSettings one;
+    one.radius = 1;
+    blur.setSettings(one);
+    EXPECT_EQ(blur.settings().radius, 1);
+    const Image narrow = run(blur);
+    EXPECT_LT(worstDifference(narrow, blurAoCpu(raw, g, view, one)), 1e-4f);
+    EXPECT_GT(worstDifference(narrow, two), 1e-3f);  // the width did change what comes out
+    BlurSettings bad;
+    bad.radius = 40;
+    EXPECT_THROW(blur.setSettings(bad), Error);
+    EXPECT_EQ(blur.settings().radius, 1);
+    EXPECT_LT(worstDifference(run(blur), narrow), 1e-6f);
 }
 
 }  // namespace

@@ -307,14 +307,9 @@ void Viewer::buildPipelines() {
     } else {
         method = std::make_unique<SsaoPass>(ssao_);
     }
-    // The probes' blur for the render size the window starts at.
-    BlurSettings blur;
-    if (const auto* probes = dynamic_cast<const ProbeProjectionPass*>(method.get())) {
-        const int height = int(float(o_.height) * o_.scale);
-        blur = probeBlurSettings(int(probes->source().params().res), height,
-                                 camera_.pinhole(int(float(o_.width) * o_.scale), height).tanHalfFovY);
-    }
-    main_ = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, std::move(method), blur, composite_);
+    // The probes' blur width follows the render size (renderFrame chooses it every frame).
+    main_ = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, std::move(method), BlurSettings{},
+                                            composite_);
 }
 
 FramePipeline& Viewer::baselinePipeline(const std::string& name) {
@@ -605,6 +600,10 @@ void Viewer::renderFrame() {
     const std::uint32_t frame = pathFrame_ ? std::uint32_t(*pathFrame_) : serial_;
 
     ProbeProjectionPass* pass = probes();
+    if (pass) {  // the probes' blur for this size: a resized window can cross the texel-size threshold
+        const BlurSettings blur = probeBlurSettings(int(pass->source().params().res), h, pinhole.tanHalfFovY);
+        if (blur.radius != main_->blur().settings().radius) main_->blur().setSettings(blur);
+    }
     if (pass && liveOn_ && live_) {
         const bool idle = forcedIdle_ > 0 || (script_.empty() && idleFrames_ > 60 && !playing_);
         live_->frame(pinhole, idle, *pass);

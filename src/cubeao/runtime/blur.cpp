@@ -72,9 +72,14 @@ Image blurAoCpu(const Image& ao, const CameraGBufferImage& g, const CameraView& 
     return blurPass(blurPass(ao, g, view, s, 1, 0), g, view, s, 0, 1);
 }
 
-Blur::Blur(const BlurSettings& settings) : settings_(settings) {
-    validateBlurSettings(settings);
+Blur::Blur(const BlurSettings& settings) {
     program_ = gl::compileComputeProgram("runtime/blur.comp");
+    setSettings(settings);
+}
+
+void Blur::setSettings(const BlurSettings& settings) {
+    validateBlurSettings(settings);
+    settings_ = settings;
     const GLuint p = program_.id();
     glProgramUniform1i(p, glGetUniformLocation(p, "radius"), settings.radius);
     glProgramUniform1f(p, glGetUniformLocation(p, "normalPower"), settings.normalPower);

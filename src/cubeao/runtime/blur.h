@@ -64,6 +64,9 @@ public:
     // intermediate texture. With radius 0 it copies.
     void run(const CameraGBuffer& gbuffer, const CameraView& view, GLuint input, GLuint output);
     const BlurSettings& settings() const { return settings_; }
+    // Another width or weights from the next run on (the viewer re-chooses the probes' width when its
+    // window changes size). Error for invalid settings, as the constructor.
+    void setSettings(const BlurSettings& settings);
     // Texture fetches per pixel with geometry for both passes: 2 × (2r + 1) taps × (AO, depth,
     // normal) less the centre's reuse. Planned, not counted.
     int fetchesPerPixel() const { return settings_.radius == 0 ? 0 : 2 * (3 * 2 * settings_.radius + 3); }

@@ -101,6 +101,7 @@ public:
     const AoPass& method() const { return *method_; }
     const CameraGBuffer& gbuffer() const { return gbuffer_; }
     const Blur& blur() const { return blur_; }
+    Blur& blur() { return blur_; }
 
 private:
     // One frame's timer queries, one per stage, reused round the ring.
