@@ -10,6 +10,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "cubeao/core/error.h"
 #include "cubeao/runtime/nearest_lists.h"
 #include "cubeao/runtime/probe_grid.h"
 #include "common/runtime_layout.h"
@@ -126,6 +127,32 @@ TEST(SurfaceSamples, BothSidesAtTheRequestedDensityAndDeterministic) {
 
 // ---- the second list: the K probes of a set nearest each cell (nearest_lists.h) -------------------
 
+// Every cell's list is the K of the set nearest its centre, as trying every probe finds them.
+void expectNearestOfTheSet(const NearestProbeLists& lists, const std::vector<std::uint32_t>& ids,
+                           const std::vector<glm::vec3>& at) {
+    for (std::size_t c = 0; c < lists.cellCount(); ++c) {
+        std::vector<std::pair<float, std::uint32_t>> all;
+        for (std::size_t i = 0; i < ids.size(); ++i) {
+            const glm::vec3 d = at[i] - lists.cellCentre(c);
+            all.emplace_back(glm::dot(d, d), ids[i]);
+        }
+        std::sort(all.begin(), all.end());
+        const auto list = lists.cellList(c);
+        for (std::size_t j = 0; j < list.size(); ++j)
+            ASSERT_EQ(list[j], j < all.size() ? all[j].second : kernel::kNoProbe) << "cell " << c << " entry " << j;
+    }
+}
+
+// The cells whose list differs from `before` (K entries a cell), ascending.
+std::vector<std::size_t> cellsThatDiffer(const NearestProbeLists& lists, const std::vector<std::uint32_t>& before) {
+    std::vector<std::size_t> differ;
+    const auto k = std::ptrdiff_t(lists.k());
+    for (std::size_t c = 0; c < lists.cellCount(); ++c)
+        if (!std::equal(lists.cellList(c).begin(), lists.cellList(c).end(), before.begin() + std::ptrdiff_t(c) * k))
+            differ.push_back(c);
+    return differ;
+}
+
 // Every cell's list against trying every probe: clustered, spread, fewer than K, none, and probes
 // outside the grid (clamped into its border cells by the search, at their true distance).
 TEST(NearestProbeLists, EveryCellListsTheKNearestOfTheSetAsTryingEveryProbeWould) {
@@ -134,18 +161,7 @@ TEST(NearestProbeLists, EveryCellListsTheKNearestOfTheSetAsTryingEveryProbeWould
     std::mt19937 rng(7u);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     const auto check = [&](const std::vector<std::uint32_t>& ids, const std::vector<glm::vec3>& at) {
-        for (std::size_t c = 0; c < lists.cellCount(); ++c) {
-            std::vector<std::pair<float, std::uint32_t>> all;
-            for (std::size_t i = 0; i < ids.size(); ++i) {
-                const glm::vec3 d = at[i] - lists.cellCentre(c);
-                all.emplace_back(glm::dot(d, d), ids[i]);
-            }
-            std::sort(all.begin(), all.end());
-            const auto list = lists.cellList(c);
-            for (std::size_t j = 0; j < list.size(); ++j)
-                ASSERT_EQ(list[j], j < all.size() ? all[j].second : kernel::kNoProbe)
-                    << "cell " << c << " entry " << j;
-        }
+        expectNearestOfTheSet(lists, ids, at);
     };
     std::vector<std::uint32_t> ids;
     std::vector<glm::vec3> at;
@@ -166,15 +182,54 @@ TEST(NearestProbeLists, EveryCellListsTheKNearestOfTheSetAsTryingEveryProbeWould
         const std::vector<std::size_t> changed = lists.assign(ids, at);
         ASSERT_NO_FATAL_FAILURE(check(ids, at)) << "round " << round;
         // Exactly the cells whose list differs are reported, ascending.
-        std::vector<std::size_t> differ;
-        for (std::size_t c = 0; c < lists.cellCount(); ++c)
-            if (!std::equal(lists.cellList(c).begin(), lists.cellList(c).end(),
-                            before.begin() + std::ptrdiff_t(c * 4)))
-                differ.push_back(c);
-        EXPECT_EQ(changed, differ) << "round " << round;
+        EXPECT_EQ(changed, cellsThatDiffer(lists, before)) << "round " << round;
         EXPECT_FALSE(changed.empty()) << "round " << round;
     }
     EXPECT_TRUE(lists.assign(ids, at).empty()) << "the same set again changes nothing";
+}
+
+// The residency changes the set a few probes a frame: each assign searches only the cells a probe that
+// left or came can change, and must still list what trying every probe lists, reporting exactly the
+// cells that changed. Loads, evictions, both in one step, a probe that moves, ties in distance (probes
+// on a lattice), a list that empties, and a duplicate id refused.
+TEST(NearestProbeLists, AFewProbesComingAndGoingListWhatARebuildLists) {
+    NearestProbeLists lists({0, 0, 0}, {16, 4, 8}, 1.0f, 4, 512);
+    std::mt19937 rng(11u);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    // A pool of 400 candidates, half of them on a lattice (equal distances to many cell centres).
+    std::vector<glm::vec3> pool;
+    for (int i = 0; i < 400; ++i)
+        pool.push_back(i % 2 == 0 ? glm::vec3(float(i % 16), float(i / 16 % 4), float(i / 64 % 8))
+                                  : glm::vec3(16.0f * u(rng), 4.0f * u(rng), 8.0f * u(rng)));
+    std::vector<bool> in(pool.size(), false);
+    for (std::size_t i = 0; i < 120; ++i) in[i * 3] = true;  // the first frame: many at once
+    std::size_t step = 0;
+    for (; step < 60; ++step) {
+        if (step > 0) {
+            // 1–3 loads and 0–3 evictions, as a frame of the residency makes; every 10th step moves one.
+            for (int j = 0, loads = 1 + int(rng() % 3); j < loads; ++j) in[rng() % pool.size()] = true;
+            for (int j = 0, evictions = int(rng() % 4); j < evictions; ++j) in[rng() % pool.size()] = false;
+            if (step % 10 == 0) pool[rng() % pool.size()] = {16.0f * u(rng), 4.0f * u(rng), 8.0f * u(rng)};
+        }
+        std::vector<std::uint32_t> ids;
+        std::vector<glm::vec3> at;
+        for (std::uint32_t i = 0; i < pool.size(); ++i)
+            if (in[i]) ids.push_back(i), at.push_back(pool[i]);
+        std::shuffle(ids.begin(), ids.end(), rng);  // the order of the set does not matter
+        for (std::size_t i = 0; i < ids.size(); ++i) at[i] = pool[ids[i]];
+        const std::vector<std::uint32_t> before = lists.table();
+        const std::vector<std::size_t> changed = lists.assign(ids, at);
+        ASSERT_NO_FATAL_FAILURE(expectNearestOfTheSet(lists, ids, at)) << "step " << step;
+        ASSERT_EQ(changed, cellsThatDiffer(lists, before)) << "step " << step;
+    }
+    // Down to two probes: every list holds those two, then nothing.
+    const std::vector<std::uint32_t> two = {7, 3};
+    const std::vector<glm::vec3> twoAt = {pool[7], pool[3]};
+    lists.assign(two, twoAt);
+    expectNearestOfTheSet(lists, two, twoAt);
+    lists.assign({}, {});
+    expectNearestOfTheSet(lists, {}, {});
+    EXPECT_THROW(lists.assign(std::vector<std::uint32_t>{4, 4}, std::vector<glm::vec3>{pool[4], pool[4]}), Error);
 }
 
 }  // namespace
