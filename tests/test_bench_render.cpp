@@ -74,7 +74,7 @@ TEST_F(GlTest, BenchRenderSyntheticSweepUnderABudget) {
     const fs::path dir = fs::temp_directory_path() / ("cubeao-test-bench-render-" + std::to_string(::getpid()));
     fs::remove_all(dir);
     const std::string args = "bench render --scene builtin:box-room --width 64 --height 36 --probes 300,10 --res 8 "
-                             "--frames 3 --rounds 1 --methods probes --synthetic --gpu-budget-mb 0.64 --upload-mb 0.01 "
+                             "--frames 3 --rounds 1 --methods probes --synthetic --gpu-budget-mb 0.72 --upload-mb 0.01 "
                              "--keep-caches " + dir.string() + " --json";
     const CliRun r = runCli(args);
     ASSERT_EQ(r.code, 0) << r.out;
@@ -89,7 +89,7 @@ TEST_F(GlTest, BenchRenderSyntheticSweepUnderABudget) {
         EXPECT_LE(res["resident"].get<std::size_t>(), std::min(n, res["slots"].get<std::size_t>())) << n;
         EXPECT_GE(res["loads"].get<std::size_t>(), res["resident"].get<std::size_t>()) << n;
         EXPECT_LE(res["max_frame_upload_bytes"].get<std::size_t>(), res["upload_bound_bytes"].get<std::size_t>()) << n;
-        EXPECT_LE(s["gpu_bytes"].get<double>(), 0.64 * 1024 * 1024) << n << " probes: within the budget";
+        EXPECT_LE(s["gpu_bytes"].get<double>(), 0.72 * 1024 * 1024) << n << " probes: within the budget";
         EXPECT_GT(s["timings_ms"]["ao"].get<double>(), 0.0) << n;
         EXPECT_NEAR(s["frame_ratio"].get<double>(), s["timings_ms"]["gpu_total"].get<double>() /
                     j["sweep"][0]["timings_ms"]["gpu_total"].get<double>(), 1e-9) << n;

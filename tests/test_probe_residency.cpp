@@ -175,8 +175,22 @@ TEST_F(ResidencyGl, ASmallBudgetEvictsAndReloadsAndAReloadedProbeGivesIdenticalP
     ASSERT_LT(projection.residency().slots(), roomProbes().size());
     const CameraView start = view({1.5f, 1.2f, 2.0f}, {0.5f, 0.3f, 0.5f});
     const CameraView end = view({6.5f, 1.2f, 2.0f}, {7.5f, 0.3f, 0.5f});
+    // Each frame the GPU's count of every cell's resident candidates is what the grid and the pool say.
+    const auto expectCounts = [&] {
+        const std::vector<std::uint32_t> counts = projection.readResidentCandidateCounts();
+        ASSERT_EQ(counts.size(), projection.grid().cellCount());
+        for (std::size_t c = 0; c < counts.size(); ++c) {
+            std::uint32_t resident = 0;
+            for (const std::uint32_t id : projection.grid().cellCandidates(c))
+                if (id != kernel::kNoProbe) resident += projection.residency().isResident(id) ? 1u : 0u;
+            ASSERT_EQ(counts[c], resident) << "cell " << c;
+        }
+    };
     const auto settle = [&](const CameraView& v) {
-        for (int f = 0; f < 12; ++f) r->render(v, 0);
+        for (int f = 0; f < 12; ++f) {
+            r->render(v, 0);
+            expectCounts();
+        }
         return r->readRawAo();
     };
     const Image before = settle(start);

@@ -95,8 +95,15 @@ TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
 
     EXPECT_EQ(blockBinding(p, "Candidates"), k::kCandidateBuffer);
     EXPECT_EQ(blockBinding(p, "ResidentCandidates"), k::kResidentCandidateBuffer);
+    EXPECT_EQ(blockBinding(p, "CellResidentCounts"), k::kCellResidentCountBuffer);
     EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, "candidates[0]", GL_ARRAY_STRIDE),
               GLint(sizeof(std::uint32_t)));
+    // The pass that counts each cell's resident candidates reads the same table and cells.
+    const gl::Program count = gl::compileComputeProgram("runtime/cell_residency.comp");
+    EXPECT_EQ(blockBinding(count.id(), "ProbeTable"), k::kProbeTableBuffer);
+    EXPECT_EQ(blockBinding(count.id(), "Candidates"), k::kCandidateBuffer);
+    EXPECT_EQ(blockBinding(count.id(), "CellResidentCounts"), k::kCellResidentCountBuffer);
+    EXPECT_EQ(variableOffset(count.id(), "probes[0].tile"), GLint(offsetof(k::ProbeEntry, tile)));
 
     // The variant of ProbeProjectionPass::setDiagnostics writes its image at its own unit.
     const gl::Program diagnostics = gl::compileComputeProgram("runtime/project.comp", {{"PROJECT_DIAGNOSTICS", "1"}});
@@ -217,7 +224,7 @@ TEST(RuntimeLayout, BindingsAreDistinctPerKind) {
     const std::vector<int> buffers = {k::kTriangleNormalsBuffer, k::kPassCountersBuffer, k::kProbeTableBuffer,
                                       k::kCandidateBuffer,       k::kResidentCandidateBuffer, k::kCoverageProbeBuffer, k::kCoverageCounterBuffer,
                                       k::kFallbackTileBuffer,    k::kFallbackCountersBuffer, k::kFallbackTileListBuffer,
-                                      k::kFallbackWorkBuffer,    k::kProbeFeedbackBuffer,
+                                      k::kFallbackWorkBuffer,    k::kProbeFeedbackBuffer,   k::kCellResidentCountBuffer,
                                       int(k::kBvhNodeBuffer),    int(k::kBvhTriangleBuffer)};
     for (const auto* list : {&units, &buffers})
         for (std::size_t i = 0; i < list->size(); ++i)

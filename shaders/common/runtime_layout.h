@@ -38,6 +38,7 @@ CUBEAO_CONST int kProbeTableBuffer = 5;       // project: ProbeEntry per probe, 
 CUBEAO_CONST int kCandidateBuffer = 6;        // project: K probe indices per grid cell (probe_grid.h), kNoProbe = none
 CUBEAO_CONST int kResidentCandidateBuffer = 9;  // project: the second list, resident probes per coarse cell (nearest_lists.h)
 CUBEAO_CONST int kProbeFeedbackBuffer = 16;   // project: per probe, sampled pixels that used or wanted it
+CUBEAO_CONST int kCellResidentCountBuffer = 17;  // project, cell_residency: per grid cell, how many of its candidates are resident
 
 // The counters a pass accumulates over a frame (std430). Fetches are G-buffer and probe texture reads,
 // a 64-bit count in two words (a 4K frame at 64 samples passes 2³²; the carry is added by hand).

@@ -7,8 +7,9 @@
 //
 // Residency (src/cubeao/runtime/probe_residency.h): a probe's texels sit in atlas tile
 // probes[id].tile, or nowhere (kNoSlot): the loop then passes it over and takes the next resident
-// candidate. When none of the cell's candidates is resident and sees the point, it tries the second
-// list, the resident probes nearest the point's coarse cell (src/cubeao/runtime/nearest_lists.h).
+// candidate (a cell with none resident skips the loop: residentCount, cell_residency.comp). When
+// none of the cell's candidates is resident and sees the point, it tries the second list, the
+// resident probes nearest the point's coarse cell (src/cubeao/runtime/nearest_lists.h).
 // A pixel none of those sees gets `uncoveredAo` (kUncoveredAo when a screen-space fallback fills it
 // afterwards, 1 = open without one). Every 4th pixel in x and y counts, weighted, the probes it
 // blended and a better-ranked candidate it had to pass over (its demand), which the residency reads
@@ -45,6 +46,7 @@ layout(rgba32f, binding = kDiagnosticsImageUnit) writeonly uniform image2D diagn
 layout(std430, binding = kProbeTableBuffer) readonly buffer ProbeTable { ProbeEntry probes[]; };
 layout(std430, binding = kCandidateBuffer) readonly buffer Candidates { uint candidates[]; };
 layout(std430, binding = kResidentCandidateBuffer) readonly buffer ResidentCandidates { uint residentCandidates[]; };
+layout(std430, binding = kCellResidentCountBuffer) readonly buffer CellResidentCounts { uint residentCount[]; };
 layout(std430, binding = kPassCountersBuffer) buffer Counters { PassCounters counters; };
 layout(std430, binding = kProbeFeedbackBuffer) buffer Feedback { uint demand[]; };
 
@@ -132,8 +134,13 @@ void main() {
             vec3 n = normalize(mat3(worldFromView) * texelFetch(normalTex, px, 0).xyz);
             fetches += 1u;
             ivec3 cell = candidateCellOf(x, gridOrigin, cellSize, gridDims);
-            cellBase = uint((cell.z * gridDims.y + cell.y) * gridDims.x + cell.x) * uint(candidatesPerCell);
-            ProjectedAo projected = projectCandidates(candidatesPerCell, x, n, params);
+            uint cellIndex = uint((cell.z * gridDims.y + cell.y) * gridDims.x + cell.x);
+            cellBase = cellIndex * uint(candidatesPerCell);
+            // A cell none of whose candidates is resident (cell_residency.comp): what the loop would
+            // find, without reading them one by one: nothing, and its first candidate as the one wanted.
+            ProjectedAo projected = residentCount[cellIndex] == 0u
+                                        ? ProjectedAo(1.0, 0, candidates[cellBase], kNoProbe, kNoProbe)
+                                        : projectCandidates(candidatesPerCell, x, n, params);
             bool fallbackPath = projected.missing != kNoProbe;
             if (projected.used == 0 && residentPerCell > 0) {
                 // No resident candidate of the cell sees the point: the resident probes nearest it.

@@ -116,6 +116,8 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     cells_ = gl::Buffer::create();
     glNamedBufferStorage(cells_.id(), GLsizeiptr(grid_->table().size() * sizeof(std::uint32_t)), grid_->table().data(),
                          GL_DYNAMIC_STORAGE_BIT);
+    residentCounts_ = gl::Buffer::create();
+    glNamedBufferStorage(residentCounts_.id(), GLsizeiptr(grid_->cellCount() * sizeof(std::uint32_t)), nullptr, 0);
     nearest_ = std::make_unique<NearestProbeLists>(boundsMin, boundsMax, 2.0f * grid_->cellSize(),
                                                    std::max(settings.residentCandidates, 1));
     nearestCells_ = gl::Buffer::create();
@@ -134,6 +136,10 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
 
     program_ = gl::compileComputeProgram("runtime/project.comp");
     configureProgram(program_.id());
+    countProgram_ = gl::compileComputeProgram("runtime/cell_residency.comp");
+    glProgramUniform1ui(countProgram_.id(), uniformLocation(countProgram_.id(), "cellCount"),
+                        GLuint(grid_->cellCount()));
+    glProgramUniform1i(countProgram_.id(), uniformLocation(countProgram_.id(), "candidatesPerCell"), candidates_);
 }
 
 ProbeProjectionPass::~ProbeProjectionPass() {
@@ -174,8 +180,8 @@ void ProbeProjectionPass::setDiagnostics(bool on) {
 }
 
 std::size_t ProbeProjectionPass::ownGpuBytes() const {
-    // cells_, nearestCells_, counters_ and the shares' read-back ring
-    return (grid_->table().size() + nearest_->table().size()) * sizeof(std::uint32_t) +
+    // cells_, residentCounts_, nearestCells_, counters_ and the shares' read-back ring
+    return (grid_->table().size() + grid_->cellCount() + nearest_->table().size()) * sizeof(std::uint32_t) +
            (1 + kSharesRing) * sizeof(kernel::PassCounters);
 }
 
@@ -192,7 +198,8 @@ std::size_t ProbeProjectionPass::allocatedGpuBytes() const {
         glGetTextureLevelParameteriv(diagnosticsImage_.id(), 0, GL_TEXTURE_HEIGHT, &h);
         diagnostics = std::size_t(w) * std::size_t(h) * 16;
     }
-    return residency_->allocatedGpuBytes() + glBufferBytes(cells_.id()) + glBufferBytes(nearestCells_.id()) +
+    return residency_->allocatedGpuBytes() + glBufferBytes(cells_.id()) + glBufferBytes(residentCounts_.id()) +
+           glBufferBytes(nearestCells_.id()) +
            glBufferBytes(counters_.id()) + glBufferBytes(sharesRing_.id()) + diagnostics;
 }
 
@@ -215,6 +222,25 @@ void ProbeProjectionPass::updateResidentLists() {
     uploadCells(nearestCells_.id(), nearest_->table(), std::size_t(nearest_->k()), changed);
 }
 
+void ProbeProjectionPass::countResidentCandidates() {
+    if (residency_->residentVersion() == countedVersion_ && !cellsChanged_) return;
+    countedVersion_ = residency_->residentVersion();
+    cellsChanged_ = false;
+    glUseProgram(countProgram_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kProbeTableBuffer, residency_->tableBuffer());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kCandidateBuffer, cells_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kCellResidentCountBuffer, residentCounts_.id());
+    const std::size_t groups = (grid_->cellCount() + 63) / 64;  // the shader strides past 65,535 groups
+    glDispatchCompute(GLuint(std::clamp<std::size_t>(groups, 1, 65535)), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+std::vector<std::uint32_t> ProbeProjectionPass::readResidentCandidateCounts() const {
+    std::vector<std::uint32_t> counts(grid_->cellCount());
+    glGetNamedBufferSubData(residentCounts_.id(), 0, GLsizeiptr(counts.size() * sizeof(std::uint32_t)), counts.data());
+    return counts;
+}
+
 std::uint32_t ProbeProjectionPass::addProbe(ProbeRecord probe) {
     const glm::vec3 position = probe.position;
     const std::uint32_t id = source_.add(std::move(probe));
@@ -222,6 +248,7 @@ std::uint32_t ProbeProjectionPass::addProbe(ProbeRecord probe) {
     if (grid_->probeCount() != source_.size()) throw Error("ProbeProjectionPass: probe ids out of step");
     residency_->syncProbes(source_);
     uploadCells(cells_.id(), grid_->table(), std::size_t(candidates_), changed);
+    cellsChanged_ = true;
     return id;
 }
 
@@ -230,6 +257,7 @@ void ProbeProjectionPass::removeProbe(std::uint32_t id) {
     const std::vector<std::size_t> changed = grid_->removeProbe(id);
     residency_->syncProbes(source_);
     uploadCells(cells_.id(), grid_->table(), std::size_t(candidates_), changed);
+    cellsChanged_ = true;
 }
 
 // The probes to keep resident, most wanted first: those the pixels of the newest reported frame used
@@ -307,6 +335,7 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
     residency_->update(source_, wantedProbes(view), unbounded_);
     unbounded_ = false;
     updateResidentLists();
+    countResidentCandidates();
     const GLuint p = diagnostics_ ? diagnosticsProgram_.id() : program_.id();
     glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
     glProgramUniform2i(p, uniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
@@ -321,6 +350,7 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kPassCountersBuffer, counters_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kCandidateBuffer, cells_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kResidentCandidateBuffer, nearestCells_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kCellResidentCountBuffer, residentCounts_.id());
     if (diagnostics_) {
         if (diagnosticsWidth_ != gbuffer.width() || diagnosticsHeight_ != gbuffer.height()) {
             diagnosticsImage_ = gl::Texture::create(GL_TEXTURE_2D);

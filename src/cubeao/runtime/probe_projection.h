@@ -108,6 +108,9 @@ public:
     std::size_t gpuBytes() const;
     // The same as GL reports it for every texture and buffer the pass holds (for tests).
     std::size_t allocatedGpuBytes() const;
+    // Per candidate cell, how many of its candidates were resident at the last run(), as the GPU
+    // counted them (cell_residency.comp; for tests).
+    std::vector<std::uint32_t> readResidentCandidateCounts() const;
 
 private:
     ProbeProjectionPass(const CacheReader* cache, const CacheParams& params, std::span<const glm::vec3> positions,
@@ -116,6 +119,7 @@ private:
     std::vector<std::uint32_t> wantedProbes(const CameraView& view);
     std::size_t ownGpuBytes() const;  // the candidate grid and the counters: what the residency does not hold
     void updateResidentLists();  // the second list over the pool's probes, when the pool changed
+    void countResidentCandidates();  // residentCounts_, when the pool or the cells changed
     void configureProgram(GLuint program) const;  // the uniforms that stay for the pass's life
 
     ProbeSource source_;
@@ -133,6 +137,12 @@ private:
     bool diagnostics_ = false;
     float uncoveredAo_ = 1.0f;  // what project.comp writes for an uncovered pixel (setFallback)
     gl::Buffer cells_, nearestCells_, counters_;
+    // Per candidate cell, how many of its candidates are resident (cell_residency.comp), counted again
+    // when the residency's version or the cells change.
+    gl::Buffer residentCounts_;
+    gl::Program countProgram_;
+    std::uint64_t countedVersion_ = ~std::uint64_t(0);
+    bool cellsChanged_ = true;
     // latestPixelShares' ring: slot r of sharesRing_ holds the counters of run() number sharesSerial_[r].
     gl::Buffer sharesRing_;
     const void* sharesMapped_ = nullptr;  // kSharesRing kernel::PassCounters, persistently mapped

@@ -143,6 +143,7 @@ public:
 
     const ProbeAtlasLayout& atlas() const { return atlas_; }
     GLuint aoTexture() const { return ao_.id(); }
+    GLuint tableBuffer() const { return table_.id(); }  // kernel::ProbeEntry per probe id
     GLuint distanceTexture() const { return distance_.id(); }
     const ResidencyStats& stats() const { return stats_; }
     // What GL says the residency's textures and buffers hold (sizes queried from the driver): the
