@@ -6,12 +6,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <cstdio>
 
 
 #include "cubeao/bake/bake.h"
 #include "cubeao/bake/bake_images.h"
 #include "cubeao/bake/horizon.h"
+#include "cubeao/core/error.h"
 #include "cubeao/metrics/image_io.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/repair.h"
@@ -350,6 +352,7 @@ TEST(CpuBakeHorizon, BakedTexelsAreTheEstimatorWithTheTexelKey) {
         SCOPED_TRACE(estimatorName(e));
         BakeSettings s = bakeSettings(e, 32, kWallRadius, 16);
         s.ao.seed = 77;
+        s.denoise = 0;  // each texel's own estimate; the filter has its tests (AoDenoise, AoFilterPass…)
         const BakedProbe b = bakeProbeCpu(floorAndWall(), kWallProbe, 9, s);
         for (std::size_t index = 0; index < b.ao.size(); index += 7) {
             const glm::vec4& t = b.gbuffer.texels[index];
@@ -498,7 +501,10 @@ TEST(CpuBakeVerify, TracedBakeErrorIsTheNoiseOfTwoIndependentEstimates) {
     // Per texel |bake − reference| of two independent estimates with standard errors 2σ (16 rays)
     // and σ (64 rays): E = sqrt(2/π)·sqrt(5)·σ = 1.78σ for Gaussian errors; `noise` is σ's upper
     // bound (independent samples; the stratified set converges faster), so the MAE lies below
-    // 1.78·noise, and well above 0: the bake is not compared with itself.
+    // 1.78·noise, and well above 0: the bake is not compared with itself. The bake's AO filter is on
+    // (the reference has none), but in a cube this coarse its σ cap (R / 4 = 0.125 m against 0.37 m
+    // texels) leaves it next to nothing to average: MAE 0.0079 with it, 0.0077 without (noise
+    // 0.0099). Without the cap a 5 × 5 window here spans 2 m, four times R: the MAE rose to 0.0385.
     std::printf("box-room traced 16 spp vs 64 spp reference: verify MAE %.4f, reference noise %.4f\n", v.mae, v.noise);
     EXPECT_GT(v.noise, 0.0);
     EXPECT_GT(v.mae, 0.1 * v.noise);
@@ -648,6 +654,165 @@ TEST(BakeImages, CrossFoldsIntoAConsistentCube) {
             }
         }
     EXPECT_EQ(borderPairs, 5 * res);  // −X|+Z, +Z|+X, +X|−Z, +Y/+Z, +Z/−Y
+}
+
+
+// ---- The bake's AO filter (shaders/common/ao_denoise.h, denoiseAoCpu) ------------------------------
+//
+// An analytic G-buffer: a probe at the origin over a floor y = -1 (x ≤ 0.5), a lower floor y = -1.5
+// (x > 0.5: a step seen from above, a depth discontinuity) and a wall x = 2 (normal −x) that meets the
+// lower floor in a crease. surface[t]: 0, 1, 2 for those, -1 for an empty texel.
+struct AnalyticCube {
+    CubeGBuffer g;
+    std::vector<int> surface;
+};
+
+AnalyticCube stepAndCrease(int res) {
+    AnalyticCube c;
+    c.g.res = res;
+    c.g.texels.assign(c.g.texelCount(), glm::vec4(0.0f));
+    c.surface.assign(c.g.texelCount(), -1);
+    for (int face = 0; face < cube::kFaces; ++face)
+        for (int j = 0; j < res; ++j)
+            for (int i = 0; i < res; ++i) {
+                const glm::vec3 d = cube::texelDirection(face, i, j, res);
+                float best = 20.0f;  // nothing beyond 20 m: empty
+                int which = -1;
+                glm::vec3 normal(0.0f);
+                const auto offer = [&](float t, int id, const glm::vec3& n, bool inside) {
+                    if (inside && t > 0.0f && t < best) best = t, which = id, normal = n;
+                };
+                if (d.y < 0.0f) {
+                    const float upper = 1.0f / -d.y, lower = 1.5f / -d.y;
+                    offer(upper, 0, kUp, d.x * upper <= 0.5f);
+                    offer(lower, 1, kUp, d.x * lower > 0.5f && d.x * lower <= 2.0f);
+                }
+                if (d.x > 0.0f) {
+                    const float t = 2.0f / d.x;
+                    offer(t, 2, glm::vec3(-1.0f, 0.0f, 0.0f), d.y * t >= -1.5f);
+                }
+                if (which < 0) continue;
+                const std::size_t index = cube::texelIndex(face, i, j, res);
+                c.g.texels[index] = glm::vec4(normal, best);
+                c.surface[index] = which;
+            }
+    return c;
+}
+
+TEST(AoDenoise, SurfacesKeepTheirOwnAoAcrossStepsAndCreases) {
+    const AnalyticCube c = stepAndCrease(64);
+    const float value[3] = {0.3f, 0.6f, 0.9f};
+    std::vector<float> ao(c.g.texelCount(), 1.0f);
+    for (std::size_t t = 0; t < ao.size(); ++t)
+        if (c.surface[t] >= 0) ao[t] = value[c.surface[t]];
+    std::vector<float> filtered = ao;
+    denoiseAoCpu(c.g, 2, 3.0f, filtered);
+    std::size_t checked = 0, byAnother = 0;
+    for (std::size_t t = 0; t < ao.size(); ++t) {
+        if (c.surface[t] < 0) {
+            EXPECT_EQ(filtered[t], 1.0f) << "empty texel " << t;
+            continue;
+        }
+        // Where the 0.5 m step is at least 6 texel footprints (distance · 2 / res) deep, the other floor
+        // weighs e^-18 at most; the wall's normal is perpendicular to the floors': weight 0.
+        if (c.g.texels[t].w * 2.0f / 64.0f > 0.5f / 6.0f) continue;
+        EXPECT_NEAR(filtered[t], ao[t], 1e-5f) << "texel " << t << " of surface " << c.surface[t];
+        ++checked;
+        const TexelId id = texelId(t, 64);
+        for (int dj = -2; dj <= 2; ++dj)
+            for (int di = -2; di <= 2; ++di) {
+                const int i = id.i + di, j = id.j + dj;
+                if (i < 0 || j < 0 || i >= 64 || j >= 64) continue;
+                const int other = c.surface[cube::texelIndex(id.face, i, j, 64)];
+                if (other >= 0 && other != c.surface[t]) {
+                    ++byAnother;
+                    di = dj = 3;  // counted once
+                }
+            }
+    }
+    EXPECT_GT(checked, 5000u);
+    EXPECT_GT(byAnother, 200u) << "texels beside the step and the crease must be among those checked";
+}
+
+TEST(AoDenoise, NoiseOnASurfaceShrinksAndItsSmoothAoStays) {
+    const int res = 64;
+    const AnalyticCube c = stepAndCrease(res);
+    const auto smooth = [&](std::size_t t) {
+        const TexelId id = texelId(t, res);
+        const glm::vec3 p = c.g.surfacePoint(id.face, id.i, id.j);
+        return 0.5f + 0.01f * p.x + 0.01f * p.z;  // 0.1..0.9 within the 20 m the cube sees
+    };
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> noise(-0.1f, 0.1f);
+    std::vector<float> clean(c.g.texelCount(), 1.0f), noisy(c.g.texelCount(), 1.0f);
+    for (std::size_t t = 0; t < clean.size(); ++t)
+        if (c.surface[t] >= 0) clean[t] = smooth(t), noisy[t] = clean[t] + noise(rng);
+    std::vector<float> filteredClean = clean, filteredNoisy = noisy;
+    denoiseAoCpu(c.g, 2, 3.0f, filteredClean);
+    denoiseAoCpu(c.g, 2, 3.0f, filteredNoisy);
+    const float gradient = std::sqrt(0.01f * 0.01f + 0.01f * 0.01f);  // of the smooth AO, per metre
+    double before = 0.0, after = 0.0, interiorBias = 0.0;
+    std::size_t n = 0, interior = 0;
+    for (std::size_t t = 0; t < clean.size(); ++t) {
+        if (c.surface[t] != 0) continue;  // the upper floor: one plane
+        before += std::abs(noisy[t] - clean[t]);
+        after += std::abs(filteredNoisy[t] - clean[t]);
+        ++n;
+        // A weighted mean would move a linear AO by the gradient times the shift of the window's
+        // weighted centre, up to about σ = min(2 footprints, R / 4) where the window is one-sided (a
+        // face border, the step, the empty far side): 70 texels here. The plane fit follows the
+        // slope; only its ridge leaves a little of that shift.
+        const float sigma = std::min(2.0f * c.g.texels[t].w * 2.0f / float(res), 0.25f * 3.0f);
+        EXPECT_LE(std::abs(filteredClean[t] - clean[t]), 0.2f * gradient * sigma) << "texel " << t;
+        // Where all 25 texels of the window lie on the floor and at most 4 m away (not grazing), the
+        // window is symmetric up to perspective: the smooth AO stays.
+        const TexelId id = texelId(t, res);
+        bool symmetric = id.i >= 2 && id.j >= 2 && id.i < res - 2 && id.j < res - 2;
+        for (int dj = -2; symmetric && dj <= 2; ++dj)
+            for (int di = -2; symmetric && di <= 2; ++di) {
+                const std::size_t k = cube::texelIndex(id.face, id.i + di, id.j + dj, res);
+                symmetric = c.surface[k] == 0 && c.g.texels[k].w < 4.0f;
+            }
+        if (!symmetric) continue;
+        interiorBias = std::max(interiorBias, double(std::abs(filteredClean[t] - clean[t])));
+        ++interior;
+    }
+    ASSERT_GT(n, 3000u);
+    ASSERT_GT(interior, 1000u);
+    std::printf("AO filter, radius 2: noise %.4f -> %.4f per texel; smooth AO moved at most %.2g inside the floor\n",
+                before / double(n), after / double(n), interiorBias);
+    // A plane fit over 5 × 5 texels with Gaussian weights of σ = 2 texels: the intercept's noise is
+    // about a quarter of a texel's on a plane seen face-on; more at face borders, the step and
+    // grazing views, where fewer neighbours count.
+    EXPECT_LT(after, 0.3 * before) << "mean error " << before / double(n) << " -> " << after / double(n);
+    // Inside the floor a plane fit of a linear AO is exact up to float rounding.
+    EXPECT_LT(interiorBias, 1e-4) << "largest change of a smooth AO inside the floor";
+}
+
+TEST(AoDenoise, RadiusZeroAndTheTexelSelectionLeaveTheOthersAsTheyWere) {
+    const int res = 16;
+    const AnalyticCube c = stepAndCrease(res);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.2f, 1.0f);
+    std::vector<float> ao(c.g.texelCount(), 1.0f);
+    for (std::size_t t = 0; t < ao.size(); ++t)
+        if (c.surface[t] >= 0) ao[t] = u(rng);
+    std::vector<float> same = ao;
+    denoiseAoCpu(c.g, 0, 3.0f, same);
+    EXPECT_EQ(same, ao);
+
+    std::vector<float> all = ao, some = ao;
+    std::vector<std::uint8_t> only(ao.size(), 0);
+    for (std::size_t t = 0; t < only.size(); t += 3) only[t] = 1;
+    denoiseAoCpu(c.g, 1, 3.0f, all);
+    denoiseAoCpu(c.g, 1, 3.0f, some, only);
+    std::size_t changed = 0;
+    for (std::size_t t = 0; t < ao.size(); ++t) {
+        EXPECT_EQ(some[t], only[t] ? all[t] : ao[t]) << t;
+        changed += some[t] != ao[t] ? 1 : 0;
+    }
+    EXPECT_GT(changed, ao.size() / 8) << "the selected surface texels must have changed";
+    EXPECT_THROW(denoiseAoCpu(c.g, 1, 3.0f, some, std::vector<std::uint8_t>(3, 1)), Error);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
 
+#include "common/ao_denoise.h"
 #include "cubeao/bake/bake.h"
 #include "cubeao/core/cube.h"
 #include "cubeao/bake/gpu_bake.h"
@@ -199,6 +200,43 @@ TEST_F(GlTest, TracedPassMatchesEmbreeOnSibenik) {
     if (!fs::exists(file)) GTEST_SKIP() << file << " not found (../shared scenes absent)";
     const Scene scene = loadScene(file.string());
     expectTracedTwin(scene, {18.0f, 2.5f, 0.3f}, 3.0f, 16, 16);  // in the nave, near the walk's start
+}
+
+// The GPU's AO filter (bake/ao_denoise.comp) against denoiseAoCpu, through the real passes: the same
+// probe baked with and without it traces the same rays, so the filtered bake must be the C++ filter
+// of the unfiltered one, on the G-buffer the GPU rasterised; for traced (every texel) and hybrid (the
+// listed texels only, the others keep their horizon AO).
+TEST_F(GlTest, AoFilterPassMatchesTheCppTwin) {
+    for (const Estimator estimator : {Estimator::Traced, Estimator::Hybrid}) {
+        BakeSettings raw = bakeSettings(estimator, 32, 1.0f, 16);
+        ASSERT_EQ(raw.denoise, kernel::kAoDenoiseDefaultRadius) << "the filter is on by default for rays";
+        raw.denoise = 0;
+        BakeSettings filtered = raw;
+        filtered.denoise = 2;
+        const auto bakeAll = [&](const BakeSettings& s) {
+            GpuBaker baker(boxRoom(), s);
+            baker.setReadback(BakeReadback::All);
+            return baker.bake(kBoxProbe, 4);
+        };
+        const BakedProbe r = bakeAll(raw), f = bakeAll(filtered);
+        ASSERT_EQ(r.gbuffer.texels, f.gbuffer.texels);
+        std::vector<std::uint8_t> traced;
+        if (estimator == Estimator::Hybrid) {
+            traced.resize(r.ao.size());
+            for (std::size_t t = 0; t < traced.size(); ++t) traced[t] = r.confidence[t] < raw.hybridThreshold ? 1 : 0;
+        }
+        std::vector<float> expected = r.ao;
+        denoiseAoCpu(r.gbuffer, 2, raw.ao.radius, expected, traced);
+        std::size_t changed = 0, surface = 0;
+        for (std::size_t t = 0; t < r.ao.size(); ++t) {
+            ASSERT_NEAR(f.ao[t], expected[t], 2e-6f) << estimatorName(estimator) << " texel " << t;
+            EXPECT_EQ(f.confidence[t], r.confidence[t]) << t;
+            if (CubeGBuffer::empty(r.gbuffer.texels[t])) continue;
+            ++surface;
+            changed += std::abs(f.ao[t] - r.ao[t]) > 1e-3f ? 1 : 0;
+        }
+        EXPECT_GT(changed, surface / (estimator == Estimator::Traced ? 4 : 50)) << estimatorName(estimator);
+    }
 }
 
 TEST_F(GlTest, HybridTracesExactlyTheLowConfidenceTexels) {

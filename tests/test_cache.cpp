@@ -155,6 +155,54 @@ TEST(CacheFile, RoundTrip) {
     EXPECT_DOUBLE_EQ(r.bytesPerTexel(), double(cacheFileSize(p, 3)) / (3.0 * 6 * 8 * 8));
 }
 
+// The bake's AO filter (byte 35) is format 3; an unfiltered cache keeps the oldest format that holds it,
+// byte 35 zero; a format-1 or 2 file with byte 35 set is damaged, a format-3 one with 9 out of range.
+TEST(CacheFile, TheAoFilterIsFormatThreeAndABakeParameter) {
+    TempDir dir("cache");
+    CacheParams p = smallParams();
+    const auto probes = randomProbes(p, 2, 21);
+    writeCache(dir / "plain.cubeao", p, probes);
+    const Bytes plain = readBytes(dir / "plain.cubeao");
+    EXPECT_EQ(plain[8], 1u);
+    EXPECT_EQ(plain[35], 0u);
+
+    p.denoise = 2;
+    writeCache(dir / "filtered.cubeao", p, probes);
+    const CacheReader filtered(dir / "filtered.cubeao");
+    EXPECT_EQ(filtered.formatVersion(), 3u);
+    EXPECT_EQ(filtered.params(), p);
+    EXPECT_EQ(filtered.params().denoise, 2u);
+    filtered.verifyAll();
+    const Bytes f = readBytes(dir / "filtered.cubeao");
+    EXPECT_EQ(f[35], 2u);
+    ASSERT_EQ(f.size(), plain.size());
+    for (std::size_t at = 0; at < f.size(); ++at) {
+        const bool checksum = (at >= 120 && at < 128) || at >= f.size() - 8;  // header's, file's
+        if (at == 8 || at == 35 || checksum) continue;
+        ASSERT_EQ(f[at], plain[at]) << "byte " << at << ": only the version and the filter differ";
+    }
+
+    CacheParams unfiltered = p;
+    unfiltered.denoise = 0;
+    const std::string differ = errorMessage([&] { filtered.expectParams(unfiltered); });
+    EXPECT_TRUE(contains(differ, "denoise 2 vs 0")) << differ;
+    EXPECT_TRUE(contains(errorMessage([&] { appendToCache(dir / "plain.cubeao", p, randomProbes(p, 1, 22, 10.0f)); }), "denoise"));
+
+    Bytes forged = plain;
+    forged[35] = 2;
+    reseal(forged);
+    writeBytes(dir / "forged.cubeao", forged);
+    const std::string reserved = errorMessage([&] { CacheReader r(dir / "forged.cubeao"); });
+    EXPECT_TRUE(contains(reserved, "reserved bytes are not zero")) << reserved;
+
+    forged = f;
+    forged[35] = 9;
+    reseal(forged);
+    writeBytes(dir / "wide.cubeao", forged);
+    const std::string wide = errorMessage([&] { CacheReader r(dir / "wide.cubeao"); });
+    EXPECT_TRUE(contains(wide, "denoise 9 is not in 0..8")) << wide;
+}
+
 TEST(CacheFile, RoundTripEveryDepthFormatAndNoProbes) {
     TempDir dir("cache");
     for (DepthFormat f : {DepthFormat::R16Unorm, DepthFormat::R16Float, DepthFormat::R32Float})

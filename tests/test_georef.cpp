@@ -239,8 +239,12 @@ TEST_F(GlTest, MovedSceneGivesTheSameReferenceProbesAndRender) {
                         1e-4);
     // The cache: local positions + the header's origin = the room's probes + the shift.
     const CacheReader cn(dir / "near/c.cubeao"), cf(dir / "far/c.cubeao");
-    EXPECT_EQ(cn.formatVersion(), 1u);
-    EXPECT_EQ(cf.formatVersion(), 2u);
+    // Traced and filtered by default: format 3 holds the origin either way (formats 1 and 2:
+    // Georef.CacheHeaderCarriesTheOrigin).
+    EXPECT_EQ(cn.formatVersion(), 3u);
+    EXPECT_EQ(cf.formatVersion(), 3u);
+    EXPECT_EQ(cn.params().origin, glm::vec3(0.0f));
+    EXPECT_NE(cf.params().origin, glm::vec3(0.0f));
     ASSERT_EQ(cn.probeCount(), cf.probeCount());
     for (std::size_t i = 0; i < cn.probeCount(); ++i)
         for (int k = 0; k < 3; ++k)

@@ -30,6 +30,7 @@ CacheParams sectionParams(CacheParams p) {
     p.directions = 0;
     p.steps = 0;
     p.hybridThreshold = 0.0f;
+    p.denoise = 0;  // the traced bake's AO filter
     return p;
 }
 

@@ -1,7 +1,7 @@
 // Everything the bake's compute passes and their C++ drivers must agree on about GPU resources:
 // work-group sizes, texture and buffer binding points and the structs in the buffers (DESIGN.md §6).
 // Passes: shaders/bake/ao_horizon.comp, ao_traced.comp, hybrid_select.comp (driven by
-// src/cubeao/bake/gpu_bake.cpp), bc5_encode.comp and bc5_error.comp (gpu_bc5.cpp), depth_encode.comp
+// src/cubeao/bake/gpu_bake.cpp), ao_denoise.comp (also gpu_bake.cpp), bc5_encode.comp and bc5_error.comp (gpu_bc5.cpp), depth_encode.comp
 // (gpu_depth.cpp); the BVH's own bindings are in bvh.h (uploaded by gpu_bvh.cpp).
 //
 // A binding number means one buffer in every bake pass (the per-texel AO is binding 1 wherever it is
@@ -34,6 +34,7 @@ CUBEAO_CONST int kBakeCoarseBuffer = 5;       // depth_encode: float per coarse 
 CUBEAO_CONST int kBakeMaxDistanceBuffer = 6;  // depth_encode: uint floatBitsToUint of the largest distance (≥ 0)
 CUBEAO_CONST int kBakeDepthWordsBuffer = 7;   // depth_encode: the packed depth cube, 32-bit words
 CUBEAO_CONST int kBakeErrorTilesBuffer = 8;   // bc5_error: vec2 (Σ error², texels) per work group
+CUBEAO_CONST int kBakeAoSourceBuffer = 9;     // ao_denoise: the AO buffer as it was before the filter
 
 // G-buffer lookups made by the horizon pass: a 64-bit count in two words (a probe at 512² can pass
 // 2³²; the carry is added by hand). Start it at zero.

@@ -21,6 +21,7 @@ Json bakeParamsJson(const CacheParams& p) {
                 {"directions", p.directions},
                 {"steps", p.steps},
                 {"hybrid_threshold", p.hybridThreshold},
+                {"denoise", p.denoise},
                 {"res", p.res},
                 {"depth_res", p.depthRes},
                 {"depth_format", depthFormatName(p.depthFormat)}};

@@ -32,7 +32,7 @@ namespace fs = std::filesystem;
 struct BakeArgs {
     std::string scene, probes, out, dump, estimator = "traced", device = "gpu", falloff = "none", shard,
                                           gbuffer = "layered", depthFormat = "r16unorm";
-    int res = 0, spp = 0, directions = 0, steps = 0, verifySpp = 0, depthRes = 0;
+    int res = 0, spp = 0, directions = 0, steps = 0, verifySpp = 0, depthRes = 0, denoise = -1;
     float radius = 0.0f, hybridThreshold = 0.0f;
     std::uint32_t seed = 0;
     bool verify = false, timings = false, json = false;
@@ -48,6 +48,7 @@ BakeSettings settingsFrom(const BakeArgs& a, const Scene& scene) {
     s.steps = a.steps;
     s.hybridThreshold = a.hybridThreshold;
     s.depthRes = a.depthRes;
+    s.denoise = a.denoise;
     s.depthFormat = a.depthFormat == "r16unorm"   ? DepthFormat::R16Unorm
                     : a.depthFormat == "r16float" ? DepthFormat::R16Float
                     : a.depthFormat == "r32float"
@@ -68,7 +69,8 @@ nlohmann::json settingsJson(const BakeSettings& s) {
             {"steps", s.steps},
             {"hybrid_threshold", s.hybridThreshold},
             {"depth_res", s.depthRes},
-            {"depth_format", depthFormatName(s.depthFormat)}};
+            {"depth_format", depthFormatName(s.depthFormat)},
+            {"denoise", s.denoise}};
 }
 
 nlohmann::json timingsJson(const BakeTimings& t) {
@@ -160,6 +162,7 @@ void checkRanges(const BakeArgs& a) {
     checkRange("--steps", a.steps, 0, 64, " (0: 16)");
     checkRange("--hybrid-threshold", a.hybridThreshold, 0.0f, 1.0f, " (0: 0.95)");
     checkRange("--depth-res", a.depthRes, 0, 4096, " (0: res/4)");
+    checkRange("--denoise", a.denoise, -1, kMaxDenoiseRadius, " (-1: 1 for traced and hybrid, else 0)");
     checkRange("--verify-spp", a.verifySpp, 0, 4 * 65536, " (0: 4x --spp)");
 }
 
@@ -232,6 +235,8 @@ void addBake(CLI::App& app) {
     cmd->add_option("--verify-spp", a->verifySpp, "Rays per texel of the --verify reference (default: 4x --spp)");
     cmd->add_flag("--timings", a->timings, "Time every stage (timings_ms); on the GPU this stalls between stages");
     cmd->add_option("--dump", a->dump, "Directory for per-face EXRs and a cross-layout PNG per probe (uncompressed)");
+    cmd->add_option("--denoise", a->denoise,
+                    "Edge-aware filter of traced AO, texels a side (default 1 for traced and hybrid, 0 = off)");
     cmd->add_option("--depth-res", a->depthRes, "Distance cube texels per side (default res/4)");
     cmd->add_option("--depth-format", a->depthFormat, "r16unorm | r16float | r32float")->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");

@@ -130,12 +130,12 @@ void cacheInfo(const InfoArgs& a) {
                         {"file_bytes", cache.fileSize()}};
     j.update(bakeParamsJson(p));
     std::printf("%s: probe cache, format %u, scene %s\n  probes     %zu\n  faces      %u² AO + confidence (BC5), "
-                "%u² distance (%s)\n  estimator  %s, R = %g, falloff %s, spp %u, seed %u, %u directions × %u steps\n"
+                "%u² distance (%s)\n  estimator  %s, R = %g, falloff %s, spp %u, seed %u, %u directions × %u steps, denoise %u\n"
                 "  size       %llu bytes, %.4f bytes per AO texel\n",
                 a.target.c_str(), cache.formatVersion(), hashToString(p.sceneHash).c_str(), cache.probeCount(), p.res,
                 p.depthRes, depthFormatName(p.depthFormat), estimatorName(Estimator(p.estimator)), double(p.radius),
                 falloffName(Falloff(p.falloff)), p.spp, p.seed, p.directions, p.steps,
-                (unsigned long long)cache.fileSize(), cache.bytesPerTexel());
+                unsigned(p.denoise), (unsigned long long)cache.fileSize(), cache.bytesPerTexel());
     if (p.origin != glm::vec3(0.0f)) {
         std::printf("  origin     (%.10g, %.10g, %.10g): probe positions are relative to it\n", double(p.origin.x),
                     double(p.origin.y), double(p.origin.z));

@@ -83,14 +83,22 @@ std::uint64_t traceTexelsCpu(const EmbreeScene& scene, const CubeGBuffer& g, std
                              const BakeSettings& settings, std::vector<float>& ao,
                              const std::vector<std::uint8_t>& only = {});
 
+// The edge-aware filter of traced AO (shaders/common/ao_denoise.h, window radius `radius` texels, AO
+// radius `aoRadius`) over every surface texel of `g`, or over the texels `only` selects (nonzero) when
+// it is not empty; nothing for radius 0. Each filtered texel reads the AO as it was before the pass.
+void denoiseAoCpu(const CubeGBuffer& g, int radius, float aoRadius, std::vector<float>& ao,
+                  const std::vector<std::uint8_t>& only = {});
+
 // Mean |ao − reference| over the baked probe's non-empty texels, the reference computed by Embree
 // (ambientOcclusion() with `reference`'s AO settings and each texel's texelKey) at each texel's
 // surface point. Two uses (DESIGN.md §5 `bake --verify`):
 // - the bake's error: `reference` = verifyReferenceSettings(bake settings), an independent estimate
-//   (another seed, 4× the rays), so the MAE measures the bake on every path, `traced` included;
-//   `noise` (the reference's mean standard error) says how much of the MAE is the reference's own;
+//   (another seed, 4× the rays, no filter), so the MAE measures the bake on every path, `traced` and
+//   its filter included; `noise` (the reference's mean standard error) says how much of the MAE is the
+//   reference's own;
 // - the twin check (`twin_mae`): `reference` = the bake's own settings, so for `traced` it traces the
-//   same rays as the bake and any difference is a GPU/Embree disagreement (grazing-ray flips only).
+//   same rays as the bake, filters them as the bake did (settings.denoise), and any difference is a
+//   GPU/Embree disagreement (grazing-ray flips only).
 struct VerifyResult {
     double mae = 0.0;
     double noise = 0.0;

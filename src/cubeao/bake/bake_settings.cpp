@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "common/ao_denoise.h"
 #include "cubeao/cache/depth_cube.h"
 #include "cubeao/core/error.h"
 #include "cubeao/core/sampling.h"
@@ -43,6 +44,8 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius) {
     if (s.hybridThreshold == 0.0f) s.hybridThreshold = 0.95f;
     if (s.depthRes == 0) s.depthRes = depth::depthResFor(s.res);
     if (s.depthFormat == DepthFormat{}) s.depthFormat = depth::kDefaultFormat;
+    if (s.denoise == -1)
+        s.denoise = s.estimator == Estimator::Traced || s.estimator == Estimator::Hybrid ? kernel::kAoDenoiseDefaultRadius : 0;
 
     std::vector<std::string> problems;
     if (s.res < 4 || s.res > 4096 || s.res % 4 != 0)
@@ -51,6 +54,11 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius) {
         problems.push_back("--depth-res " + std::to_string(s.depthRes) + ": expected 1..res (" + std::to_string(s.res) + ")");
     if (depthBytesPerTexel(s.depthFormat) == 0)
         problems.push_back("depth format " + std::to_string(int(s.depthFormat)) + ": expected r16unorm, r16float or r32float");
+    if (s.denoise < 0 || s.denoise > kMaxDenoiseRadius)
+        problems.push_back("--denoise " + std::to_string(s.denoise) + ": expected 0.." + std::to_string(kMaxDenoiseRadius));
+    else if (s.denoise > 0 && !(s.estimator == Estimator::Traced || s.estimator == Estimator::Hybrid))
+        problems.push_back("--denoise " + std::to_string(s.denoise) + ": only traced texels are filtered (estimator " +
+                           estimatorName(s.estimator) + "); use 0");
     if (s.ao.spp < 1 || s.ao.spp > 65536) problems.push_back("--spp " + std::to_string(s.ao.spp) + ": expected 1..65536");
     if (!(s.ao.radius > 0.0f)) problems.push_back("--radius must be positive");
     if (s.directions < 2 || s.directions > 64 || s.directions % 2 != 0)
@@ -75,6 +83,7 @@ CacheParams cacheParamsFor(const BakeSettings& s, std::uint64_t sceneHash) {
     p.depthFormat = s.depthFormat;
     p.estimator = std::uint8_t(s.estimator);
     p.falloff = std::uint8_t(s.ao.falloff);
+    p.denoise = std::uint8_t(s.denoise);
     p.spp = rays ? std::uint32_t(s.ao.spp) : 0;
     p.radius = s.ao.radius;
     p.seed = s.ao.seed;

@@ -24,6 +24,9 @@ enum class BakeDevice { Gpu, Cpu };
 BakeDevice parseBakeDevice(const std::string& name);
 const char* bakeDeviceName(BakeDevice d);
 
+// The widest `--denoise` window: 17 × 17 texels (what a cache header can name: kMaxCacheDenoise).
+constexpr int kMaxDenoiseRadius = int(kMaxCacheDenoise);
+
 struct BakeSettings {
     int res = 0;                      // face resolution, texels per side; 0 → 512 (thesis: 256² too coarse);
                                       // a multiple of 4 (BC5 blocks)
@@ -35,6 +38,8 @@ struct BakeSettings {
     BakeDevice device = BakeDevice::Gpu;
     int depthRes = 0;                 // distance cube texels per side, 1..res; 0 → res/4 (depth_cube.h)
     DepthFormat depthFormat{};        // 0 → r16unorm (depth_cube.h: the measured choice)
+    int denoise = -1;                 // edge-aware filter of traced AO, texels a side (common/ao_denoise.h);
+                                      // -1 → kAoDenoiseDefaultRadius (1) for traced and hybrid, 0 = off
 };
 
 // Fills the zero fields with defaults (radius from `sceneDefaultRadius`) and checks ranges, listing

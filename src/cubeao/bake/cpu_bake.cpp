@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 
+#include "common/ao_denoise.h"
 #include "cubeao/bake/horizon.h"
 #include "cubeao/cache/bc4.h"
 #include "cubeao/cache/depth_cube.h"
@@ -102,6 +103,26 @@ std::uint64_t traceTexelsCpu(const EmbreeScene& scene, const CubeGBuffer& g, std
     return traced * std::uint64_t(settings.ao.spp);
 }
 
+void denoiseAoCpu(const CubeGBuffer& g, int radius, float aoRadius, std::vector<float>& ao,
+                  const std::vector<std::uint8_t>& only) {
+    if (radius <= 0) return;
+    if (ao.size() != g.texelCount() || (!only.empty() && only.size() != g.texelCount()))
+        throw Error("denoiseAoCpu: " + std::to_string(ao.size()) + " AO values and " + std::to_string(only.size()) +
+                    " selected for a cube of " + std::to_string(g.texelCount()) + " texels");
+    struct Reader {
+        const CubeGBuffer& g;
+        const std::vector<float>& ao;
+        glm::vec4 denoiseGBuffer(glm::ivec3 t) const { return g.texels[cube::texelIndex(t.z, t.x, t.y, g.res)]; }
+        float denoiseAo(glm::ivec3 t) const { return ao[cube::texelIndex(t.z, t.x, t.y, g.res)]; }
+    };
+    const std::vector<float> before = ao;
+    const Reader reader{g, before};
+    forEachTexel(g.res, [&](int face, int i, int j, std::size_t index) {
+        if (!only.empty() && only[index] == 0) return;
+        ao[index] = kernel::aoDenoiseTexel(reader, glm::ivec3(i, j, face), g.res, g.probe, radius, aoRadius);
+    });
+}
+
 BakedProbe bakeProbeCpu(const EmbreeScene& scene, const glm::vec3& probe, std::uint32_t probeIndex,
                         const BakeSettings& settings) {
     BakedProbe out;
@@ -122,6 +143,7 @@ BakedProbe bakeProbeCpu(const EmbreeScene& scene, const glm::vec3& probe, std::u
         case Estimator::Traced:
             out.rays = traceTexelsCpu(scene, g, probeIndex, settings, out.ao);
             out.tracedTexels = surfaceTexels;
+            denoiseAoCpu(g, settings.denoise, settings.ao.radius, out.ao);
             break;
         case Estimator::Hybrid: {
             out.fetches = horizonTexels(g, probeIndex, settings, Estimator::HorizonSplit, out.ao, out.confidence);
@@ -131,6 +153,7 @@ BakedProbe bakeProbeCpu(const EmbreeScene& scene, const glm::vec3& probe, std::u
             for (std::size_t index = 0; index < trace.size(); ++index)
                 trace[index] = out.confidence[index] < settings.hybridThreshold ? 1 : 0;
             out.rays = traceTexelsCpu(scene, g, probeIndex, settings, out.ao, trace);
+            denoiseAoCpu(g, settings.denoise, settings.ao.radius, out.ao, trace);
             out.tracedTexels = out.rays / std::uint64_t(settings.ao.spp);
             break;
         }
@@ -173,6 +196,7 @@ BakeSettings verifyReferenceSettings(const BakeSettings& bake, int spp) {
     BakeSettings reference = bake;
     reference.ao.seed = bake.ao.seed ^ kVerifySeedSalt;
     reference.ao.spp = spp > 0 ? spp : kVerifyRayFactor * bake.ao.spp;
+    reference.denoise = 0;  // the truth as well as rays tell it: what the filter costs is part of the error
     return reference;
 }
 
@@ -182,14 +206,19 @@ VerifyResult verifyProbe(const EmbreeScene& scene, const BakedProbe& probe, std:
     if (probe.ao.size() != g.texelCount())
         throw Error("verifyProbe: " + std::to_string(probe.ao.size()) + " AO values for a cube of " +
                     std::to_string(g.texelCount()) + " texels");
+    std::vector<float> reference(g.texelCount(), 1.0f);
     std::vector<double> error(g.texelCount(), 0.0), noise(g.texelCount(), 0.0);
     forEachTexel(g.res, [&](int face, int i, int j, std::size_t index) {
         const glm::vec4& texel = g.texels[index];
         if (CubeGBuffer::empty(texel)) return;
         const std::uint32_t key = texelKey(face, i, j, g.res, probeIndex, settings.ao.seed);
-        const AoEstimate reference = ambientOcclusion(scene, g.surfacePoint(face, i, j), glm::vec3(texel), settings.ao, key);
-        error[index] = std::abs(double(probe.ao[index]) - double(reference.ao));
-        noise[index] = reference.stdError;
+        const AoEstimate estimate = ambientOcclusion(scene, g.surfacePoint(face, i, j), glm::vec3(texel), settings.ao, key);
+        reference[index] = estimate.ao;
+        noise[index] = estimate.stdError;
+    });
+    denoiseAoCpu(g, settings.denoise, settings.ao.radius, reference);  // the twin filters as the bake did
+    forEachTexel(g.res, [&](int, int, int, std::size_t index) {
+        if (!CubeGBuffer::empty(g.texels[index])) error[index] = std::abs(double(probe.ao[index]) - double(reference[index]));
     });
     // Summed in texel order, not per thread, so the MAE is the same on any number of cores.
     VerifyResult result;

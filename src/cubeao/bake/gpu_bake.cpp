@@ -39,10 +39,10 @@ struct GpuBaker::Impl {
     bool timings = false;  // per-stage timeGpu (stalls between stages): bench and --timings only
 
     std::unique_ptr<gl::GpuMesh> mesh;  // positions, indices, per-triangle normals
-    gl::Buffer aoBuffer, texelList, fetchCount;
+    gl::Buffer aoBuffer, aoSource, texelList, fetchCount;
     gl::Texture gbuffer, depth;
     gl::Framebuffer framebuffer;
-    gl::Program layered, sixPass, horizon, traced, tracedList, select;
+    gl::Program layered, sixPass, horizon, traced, tracedList, select, denoise, denoiseList;
     std::unique_ptr<GpuBvh> bvh;
     std::unique_ptr<GpuBc5Encoder> bc5;
     std::unique_ptr<GpuDepthEncoder> depthCube;
@@ -51,6 +51,8 @@ struct GpuBaker::Impl {
     void horizonPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
     void tracedPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
     void hybridPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
+    // The edge-aware filter of the traced texels (all, or the hybrid's list), after their AO pass.
+    void denoisePass(const glm::vec3& probe, const BakeSettings& s, bool list);
     // Texels the last hybrid pass traced: read once the probe's work is done, not between passes.
     std::uint32_t hybridTraced() const {
         kernel::TexelListHeader header{};
@@ -119,6 +121,14 @@ GpuBaker::GpuBaker(const Scene& scene, const BakeSettings& settings) : impl_(std
     if (needsTracing(settings.estimator)) {
         m.bvh = std::make_unique<GpuBvh>(buildBvh(scene));
         m.traced = gl::compileComputeProgram("bake/ao_traced.comp");
+    }
+    if (settings.denoise > 0) {
+        m.aoSource = gl::Buffer::create();
+        glNamedBufferStorage(m.aoSource.id(), GLsizeiptr(texels * sizeof(glm::vec2)), nullptr, 0);
+        if (settings.estimator == Estimator::Hybrid)
+            m.denoiseList = gl::compileComputeProgram("bake/ao_denoise.comp", {{"TEXEL_LIST", "1"}});
+        else
+            m.denoise = gl::compileComputeProgram("bake/ao_denoise.comp");
     }
     m.bc5 = std::make_unique<GpuBc5Encoder>(res);
     m.depthCube = std::make_unique<GpuDepthEncoder>(res, settings.depthRes, settings.depthFormat);
@@ -229,6 +239,7 @@ void GpuBaker::Impl::tracedPass(const glm::vec3& probe, std::uint32_t probeKey, 
     glDispatchCompute(bakeGroups(std::size_t(cube::kFaces) * std::size_t(s.res) * std::size_t(s.res), kernel::kBakeListGroupSize),
                       1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    if (s.denoise > 0) denoisePass(probe, s, false);
 }
 
 void GpuBaker::Impl::hybridPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
@@ -252,6 +263,31 @@ void GpuBaker::Impl::hybridPass(const glm::vec3& probe, std::uint32_t probeKey, 
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, texelList.id());
     glDispatchComputeIndirect(0);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    if (s.denoise > 0) denoisePass(probe, s, true);
+}
+
+void GpuBaker::Impl::denoisePass(const glm::vec3& probe, const BakeSettings& s, bool list) {
+    const std::size_t texels = std::size_t(cube::kFaces) * std::size_t(s.res) * std::size_t(s.res);
+    glCopyNamedBufferSubData(aoBuffer.id(), aoSource.id(), 0, 0, GLsizeiptr(texels * sizeof(glm::vec2)));
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    const gl::Program& program = list ? denoiseList : denoise;
+    setUniform(program.id(), "probe", probe);
+    setUniform(program.id(), "res", s.res);
+    setUniform(program.id(), "radius", s.denoise);
+    setUniform(program.id(), "aoRadius", s.ao.radius);
+    glUseProgram(program.id());
+    glBindTextureUnit(kernel::kBakeGBufferUnit, gbuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeAoBuffer, aoBuffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeAoSourceBuffer, aoSource.id());
+    if (list) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeTexelListBuffer, texelList.id());
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, texelList.id());
+        glDispatchComputeIndirect(0);
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    } else {
+        glDispatchCompute(bakeGroups(texels, kernel::kBakeListGroupSize), 1, 1);
+    }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 

@@ -37,7 +37,7 @@ constexpr int kFaces = 6;
 
 namespace hdr {  // byte offsets in the header
 constexpr std::size_t magic = 0, version = 8, headerSize = 12, sceneHash = 16, res = 24, depthRes = 28,
-                      depthFormat = 32, estimator = 33, falloff = 34, reserved0 = 35, spp = 36, radius = 40,
+                      depthFormat = 32, estimator = 33, falloff = 34, reserved0 = 35, denoise = 35, spp = 36, radius = 40,
                       seed = 44, directions = 48, steps = 52, hybridThreshold = 56, probeCount = 60,
                       tableOffset = 64, payloadOffset = 72, payloadSize = 80, fileSize = 88, tableChecksum = 96,
                       reserved1 = 104, origin = 104, reserved2 = 116, headerChecksum = 120;  // origin: format 2
@@ -249,7 +249,8 @@ std::array<std::uint8_t, kHeaderSize> encodeHeader(const CacheParams& p, std::ui
     const std::uint64_t payloadOffset = kHeaderSize + kEntrySize * probeCount;
     std::memcpy(h.data() + hdr::magic, kMagic.data(), kMagic.size());
     const bool recentred = p.origin != glm::vec3(0.0f);
-    put32(&h[hdr::version], recentred ? 2u : 1u);  // the oldest format that holds the file (cache_file.h)
+    // The oldest format that holds the file (cache_file.h).
+    put32(&h[hdr::version], p.denoise != 0 ? 3u : recentred ? 2u : 1u);
     put32(&h[hdr::headerSize], kHeaderSize);
     put64(&h[hdr::sceneHash], p.sceneHash);
     put32(&h[hdr::res], p.res);
@@ -257,6 +258,7 @@ std::array<std::uint8_t, kHeaderSize> encodeHeader(const CacheParams& p, std::ui
     h[hdr::depthFormat] = std::uint8_t(p.depthFormat);
     h[hdr::estimator] = p.estimator;
     h[hdr::falloff] = p.falloff;
+    h[hdr::denoise] = p.denoise;  // reserved (0) before format 3
     put32(&h[hdr::spp], p.spp);
     putF32(&h[hdr::radius], p.radius);
     put32(&h[hdr::seed], p.seed);
@@ -285,6 +287,7 @@ CacheParams decodeParams(const std::uint8_t* h, std::uint32_t version) {
     p.depthFormat = DepthFormat(h[hdr::depthFormat]);
     p.estimator = h[hdr::estimator];
     p.falloff = h[hdr::falloff];
+    if (version >= 3) p.denoise = h[hdr::denoise];
     p.spp = get32(h + hdr::spp);
     p.radius = getF32(h + hdr::radius);
     p.seed = get32(h + hdr::seed);
@@ -375,6 +378,8 @@ std::vector<std::string> cacheParamProblems(const CacheParams& p) {
         problems.push_back("estimator " + std::to_string(p.estimator) +
                            " is not hsplit (0), gtao (1), traced (2) or hybrid (3)");
     if (p.falloff > 1) problems.push_back("falloff " + std::to_string(p.falloff) + " is not none (0) or smooth (1)");
+    if (p.denoise > kMaxCacheDenoise)
+        problems.push_back("denoise " + std::to_string(p.denoise) + " is not in 0.." + std::to_string(kMaxCacheDenoise));
     if (!(std::isfinite(p.radius) && p.radius > 0.0f))
         problems.push_back("radius " + fmtFloat(p.radius) + " is not finite and > 0");
     if (!std::isfinite(p.hybridThreshold))
@@ -397,6 +402,7 @@ std::vector<std::string> cacheParamDifferences(const CacheParams& a, const Cache
                     depthFormatName(b.depthFormat));
     num("estimator", unsigned(a.estimator), unsigned(b.estimator));
     num("falloff", unsigned(a.falloff), unsigned(b.falloff));
+    num("denoise", unsigned(a.denoise), unsigned(b.denoise));
     num("spp", a.spp, b.spp);
     if (a.radius != b.radius) d.push_back("radius " + fmtFloat(a.radius) + " vs " + fmtFloat(b.radius));
     num("seed", a.seed, b.seed);
@@ -574,7 +580,7 @@ void CacheReader::validate() {
         throw Error(where("header") + "checksum mismatch (stored " + hex64(storedHeaderHash) + ", computed " +
                     hex64(headerHash) + ")");
     const std::size_t reservedFrom = version_ >= 2 ? hdr::reserved2 : hdr::reserved1;
-    if (data_[hdr::reserved0] != 0 || !allZero(data_ + reservedFrom, hdr::headerChecksum - reservedFrom))
+    if ((version_ < 3 && data_[hdr::reserved0] != 0) || !allZero(data_ + reservedFrom, hdr::headerChecksum - reservedFrom))
         throw Error(where("header") + "reserved bytes are not zero");
     params_ = decodeParams(data_, version_);
     if (const auto problems = cacheParamProblems(params_); !problems.empty())

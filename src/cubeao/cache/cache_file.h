@@ -20,9 +20,12 @@ namespace cubeao {
 class Progress;
 
 // Newest format this build writes and reads (docs/FORMAT.md "Versioning"). Format 2 adds the scene's
-// origin (CacheParams::origin); a cache whose origin is 0 is still written as format 1, byte for byte
-// what earlier builds wrote and can read.
-constexpr std::uint32_t kCacheFormatVersion = 2;
+// origin (CacheParams::origin), format 3 the bake's AO filter (CacheParams::denoise). A cache is
+// written in the oldest format that holds it: one whose origin is 0 and whose AO is unfiltered is
+// still format 1, byte for byte what earlier builds wrote and can read.
+constexpr std::uint32_t kCacheFormatVersion = 3;
+// The widest AO filter a header can name (bake_settings.h kMaxDenoiseRadius).
+constexpr std::uint32_t kMaxCacheDenoise = 8;
 // Every payload section starts at a multiple of this, so BC blocks and depth texels can be uploaded
 // straight from the mapping.
 constexpr std::uint64_t kCacheSectionAlignment = 16;
@@ -47,6 +50,7 @@ struct CacheParams {
     DepthFormat depthFormat = DepthFormat::R16Unorm;
     std::uint8_t estimator = 0;
     std::uint8_t falloff = 0;
+    std::uint8_t denoise = 0;      // the edge-aware filter of traced AO, texels a side (0: none; format 3)
     std::uint32_t spp = 0;
     float radius = 0.0f;           // AO radius R, world units
     std::uint32_t seed = 0;
@@ -62,7 +66,7 @@ struct CacheParams {
 };
 
 // Every range problem of `p` at once (empty: valid). Limits: res 4..16384 and a multiple of 4,
-// depthRes 1..16384, a known depth format, estimator ≤ 3, falloff ≤ 1, radius finite and > 0,
+// depthRes 1..16384, a known depth format, estimator ≤ 3, falloff ≤ 1, denoise ≤ 8, radius finite and > 0,
 // hybridThreshold finite, origin finite.
 std::vector<std::string> cacheParamProblems(const CacheParams& p);
 // Fields that differ between `a` and `b`, "res 8 vs 16" style; empty when a == b.
