@@ -503,7 +503,7 @@ TEST(CpuBakeVerify, TracedBakeErrorIsTheNoiseOfTwoIndependentEstimates) {
     // bound (independent samples; the stratified set converges faster), so the MAE lies below
     // 1.78·noise, and well above 0: the bake is not compared with itself. The bake's AO filter is on
     // (the reference has none), but in a cube this coarse its σ cap (R / 4 = 0.125 m against 0.37 m
-    // texels) leaves it next to nothing to average: MAE 0.0079 with it, 0.0077 without (noise
+    // texels) leaves it next to nothing to average: MAE 0.0078 with it, 0.0077 without (noise
     // 0.0099). Without the cap a 5 × 5 window here spans 2 m, four times R: the MAE rose to 0.0385.
     std::printf("box-room traced 16 spp vs 64 spp reference: verify MAE %.4f, reference noise %.4f\n", v.mae, v.noise);
     EXPECT_GT(v.noise, 0.0);

@@ -36,9 +36,9 @@
 
 CUBEAO_KERNEL_BEGIN
 
-// Texels a side of the window by default (`bake --denoise`): 3 × 3. On the Sibenik walk (512², 64 rays)
-// 1 beat 2 and 4 in MAE and flicker: wider windows remove more noise and add more bias (BENCHMARKS
-// "Flicker").
+// Texels a side of the window by default (`bake --denoise`): 3 × 3. On both walks (512², 64 rays) the
+// plane fit is as good at 1 as at 2 and worse at 3; a weighted mean was best at 1 and worse at 2 and
+// 4: wider windows remove more noise and add more bias (BENCHMARKS "The bake's AO filter").
 CUBEAO_CONST int kAoDenoiseDefaultRadius = 1;
 // σ of the tangent-plane distance, in centre-texel footprints (distance · 2 / res).
 CUBEAO_CONST float kAoDenoisePlaneSigma = 1.0f;
@@ -65,8 +65,8 @@ CUBEAO_FN float aoDenoiseWeight(vec3 pc, vec3 nc, float footprint, vec3 pk, vec3
     return exp(-0.5f * (dot(d, d) / (sigma * sigma) + plane * plane)) * pow(agreement, kAoDenoiseNormalPower);
 }
 
-// The filtered AO of `texel` (i, j, face) of a res² cube around `probe`: the weighted mean over its
-// (2 radius + 1)² window; an empty texel keeps its AO. aoRadius: the AO radius R.
+// The filtered AO of `texel` (i, j, face) of a res² cube around `probe`: the weighted plane fit over
+// its (2 radius + 1)² window, at the centre; an empty texel keeps its AO. aoRadius: the AO radius R.
 CUBEAO_DENOISE_FN float aoDenoiseTexel(CUBEAO_DENOISE_READER(reader) ivec3 texel, int res, vec3 probe, int radius,
                                        float aoRadius) {
     vec4 c = CUBEAO_DENOISE_READ(reader) denoiseGBuffer(texel);
@@ -79,7 +79,7 @@ CUBEAO_DENOISE_FN float aoDenoiseTexel(CUBEAO_DENOISE_READER(reader) ivec3 texel
     // Tangent frame of the centre (any orthonormal pair), coordinates in footprints.
     vec3 t0 = normalize(abs(nc.x) < 0.9f ? cross(nc, vec3(1.0f, 0.0f, 0.0f)) : cross(nc, vec3(0.0f, 1.0f, 0.0f)));
     vec3 t1 = cross(nc, t0);
-    // Weighted sums of the local linear fit ao ≈ a + b u + e v (the centre at u = v = 0, weight 1).
+    // Weighted sums of the local linear fit ao ≈ a + b·u + c·v (the centre at u = v = 0, weight 1).
     float sw = 1.0f, su = 0.0f, sv = 0.0f, suu = 0.0f, suv = 0.0f, svv = 0.0f;
     float sa = centreAo, sua = 0.0f, sva = 0.0f;
     for (int dj = -radius; dj <= radius; ++dj) {

@@ -1,8 +1,8 @@
 // Everything the bake's compute passes and their C++ drivers must agree on about GPU resources:
 // work-group sizes, texture and buffer binding points and the structs in the buffers (DESIGN.md §6).
-// Passes: shaders/bake/ao_horizon.comp, ao_traced.comp, hybrid_select.comp (driven by
-// src/cubeao/bake/gpu_bake.cpp), ao_denoise.comp (also gpu_bake.cpp), bc5_encode.comp and bc5_error.comp (gpu_bc5.cpp), depth_encode.comp
-// (gpu_depth.cpp); the BVH's own bindings are in bvh.h (uploaded by gpu_bvh.cpp).
+// Passes: shaders/bake/ao_horizon.comp, ao_traced.comp, hybrid_select.comp, ao_denoise.comp (driven
+// by src/cubeao/bake/gpu_bake.cpp), bc5_encode.comp and bc5_error.comp (gpu_bc5.cpp),
+// depth_encode.comp (gpu_depth.cpp); the BVH's own bindings are in bvh.h (uploaded by gpu_bvh.cpp).
 //
 // A binding number means one buffer in every bake pass (the per-texel AO is binding 1 wherever it is
 // read or written), so the passes chain without rebinding. GLSL 4.5 accepts these constants in layout

@@ -45,7 +45,7 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius) {
     if (s.depthRes == 0) s.depthRes = depth::depthResFor(s.res);
     if (s.depthFormat == DepthFormat{}) s.depthFormat = depth::kDefaultFormat;
     if (s.denoise == -1)
-        s.denoise = s.estimator == Estimator::Traced || s.estimator == Estimator::Hybrid ? kernel::kAoDenoiseDefaultRadius : 0;
+        s.denoise = tracesRays(s.estimator) ? kernel::kAoDenoiseDefaultRadius : 0;
 
     std::vector<std::string> problems;
     if (s.res < 4 || s.res > 4096 || s.res % 4 != 0)
@@ -56,7 +56,7 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius) {
         problems.push_back("depth format " + std::to_string(int(s.depthFormat)) + ": expected r16unorm, r16float or r32float");
     if (s.denoise < 0 || s.denoise > kMaxDenoiseRadius)
         problems.push_back("--denoise " + std::to_string(s.denoise) + ": expected 0.." + std::to_string(kMaxDenoiseRadius));
-    else if (s.denoise > 0 && !(s.estimator == Estimator::Traced || s.estimator == Estimator::Hybrid))
+    else if (s.denoise > 0 && !tracesRays(s.estimator))
         problems.push_back("--denoise " + std::to_string(s.denoise) + ": only traced texels are filtered (estimator " +
                            estimatorName(s.estimator) + "); use 0");
     if (s.ao.spp < 1 || s.ao.spp > 65536) problems.push_back("--spp " + std::to_string(s.ao.spp) + ": expected 1..65536");
@@ -75,7 +75,7 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius) {
 }
 
 CacheParams cacheParamsFor(const BakeSettings& s, std::uint64_t sceneHash) {
-    const bool horizon = s.estimator != Estimator::Traced, rays = s.estimator == Estimator::Traced || s.estimator == Estimator::Hybrid;
+    const bool horizon = s.estimator != Estimator::Traced, rays = tracesRays(s.estimator);
     CacheParams p;
     p.sceneHash = sceneHash;
     p.res = std::uint32_t(s.res);

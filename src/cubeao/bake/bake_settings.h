@@ -24,6 +24,10 @@ enum class BakeDevice { Gpu, Cpu };
 BakeDevice parseBakeDevice(const std::string& name);
 const char* bakeDeviceName(BakeDevice d);
 
+// Whether the estimator traces rays (traced: every texel; hybrid: its low-confidence ones): what spp
+// and the AO filter (`--denoise`) apply to.
+inline bool tracesRays(Estimator e) { return e == Estimator::Traced || e == Estimator::Hybrid; }
+
 // The widest `--denoise` window: 17 × 17 texels (what a cache header can name: kMaxCacheDenoise).
 constexpr int kMaxDenoiseRadius = int(kMaxCacheDenoise);
 

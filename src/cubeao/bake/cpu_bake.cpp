@@ -207,7 +207,7 @@ VerifyResult verifyProbe(const EmbreeScene& scene, const BakedProbe& probe, std:
         throw Error("verifyProbe: " + std::to_string(probe.ao.size()) + " AO values for a cube of " +
                     std::to_string(g.texelCount()) + " texels");
     std::vector<float> reference(g.texelCount(), 1.0f);
-    std::vector<double> error(g.texelCount(), 0.0), noise(g.texelCount(), 0.0);
+    std::vector<double> noise(g.texelCount(), 0.0);
     forEachTexel(g.res, [&](int face, int i, int j, std::size_t index) {
         const glm::vec4& texel = g.texels[index];
         if (CubeGBuffer::empty(texel)) return;
@@ -217,15 +217,12 @@ VerifyResult verifyProbe(const EmbreeScene& scene, const BakedProbe& probe, std:
         noise[index] = estimate.stdError;
     });
     denoiseAoCpu(g, settings.denoise, settings.ao.radius, reference);  // the twin filters as the bake did
-    forEachTexel(g.res, [&](int, int, int, std::size_t index) {
-        if (!CubeGBuffer::empty(g.texels[index])) error[index] = std::abs(double(probe.ao[index]) - double(reference[index]));
-    });
     // Summed in texel order, not per thread, so the MAE is the same on any number of cores.
     VerifyResult result;
     double sum = 0.0, noiseSum = 0.0;
     for (std::size_t index = 0; index < g.texelCount(); ++index) {
         if (CubeGBuffer::empty(g.texels[index])) continue;
-        sum += error[index];
+        sum += std::abs(double(probe.ao[index]) - double(reference[index]));
         noiseSum += noise[index];
         ++result.texels;
     }

@@ -28,7 +28,6 @@ namespace {
 using kernel::bakeGroups;  // binding points, group sizes and buffer structs: common/bake_layout.h
 
 bool needsHorizon(Estimator e) { return e != Estimator::Traced; }
-bool needsTracing(Estimator e) { return e == Estimator::Traced || e == Estimator::Hybrid; }
 
 }  // namespace
 
@@ -118,7 +117,7 @@ GpuBaker::GpuBaker(const Scene& scene, const BakeSettings& settings) : impl_(std
         const bool gtao = settings.estimator == Estimator::Gtao;
         m.horizon = gl::compileComputeProgram("bake/ao_horizon.comp", {{"ESTIMATOR", gtao ? "1" : "0"}});
     }
-    if (needsTracing(settings.estimator)) {
+    if (tracesRays(settings.estimator)) {
         m.bvh = std::make_unique<GpuBvh>(buildBvh(scene));
         m.traced = gl::compileComputeProgram("bake/ao_traced.comp");
     }
