@@ -292,6 +292,32 @@ TEST(CacheFile, FlippedByteAnywhereIsReported) {
     }
 }
 
+// The run-time grid's read (CacheReader::unverifiedDepth): a probe's distance section as stored,
+// damaged or not, without the check that would hash its AO too; probe(i) still refuses the damage.
+TEST(CacheFile, TheUnverifiedDepthIsTheStoredSectionAndSkipsOnlyTheCheck) {
+    TempDir dir("cache");
+    const CacheParams p = smallParams(8, 4, DepthFormat::R16Unorm);
+    const auto probes = randomProbes(p, 2, 5);
+    writeCache(dir / "whole.cubeao", p, probes);
+    const Bytes whole = readBytes(dir / "whole.cubeao");
+    const std::uint64_t stride = (aoSectionSize(p) + depthSectionSize(p) + 15) / 16 * 16;
+    const std::uint64_t probe1 = 128 + 64 * 2 + stride;  // AO, then the distance section
+    const auto bytes = [](std::span<const std::uint8_t> s) { return std::vector<std::uint8_t>(s.begin(), s.end()); };
+    for (const std::uint64_t at : {probe1 + 5, probe1 + aoSectionSize(p) + 3}) {
+        SCOPED_TRACE("byte " + std::to_string(at));
+        Bytes b = whole;
+        b[at] ^= 0x10;
+        writeBytes(dir / "bad.cubeao", b);
+        const CacheReader r(dir / "bad.cubeao");
+        std::vector<std::uint8_t> expected(probes[1].depth.begin(), probes[1].depth.end());
+        if (at >= probe1 + aoSectionSize(p)) expected[at - probe1 - aoSectionSize(p)] ^= 0x10;
+        EXPECT_EQ(bytes(r.unverifiedDepth(1)), expected);
+        EXPECT_EQ(bytes(r.unverifiedDepth(0)), bytes(probes[0].depth));
+        EXPECT_TRUE(contains(errorMessage([&] { r.probe(1); }), "probe 1: checksum mismatch"));
+        EXPECT_TRUE(contains(errorMessage([&] { r.unverifiedDepth(2); }), "no such probe"));
+    }
+}
+
 // Checksums intact but values forged: the value checks alone must refuse them.
 TEST(CacheFile, ForgedOffsetsAndSizesAreRefused) {
     TempDir dir("cache");

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <random>
 #include <string>
@@ -336,6 +338,61 @@ TEST_F(ResidencyGl, APointItsCellsCandidatesDoNotSeeTakesTheResidentProbesNearIt
     EXPECT_GT(one.shares.uncovered, all.shares.uncovered);
     EXPECT_DOUBLE_EQ(both.shares.uncovered, all.shares.uncovered) << "six probes tried either way";
     EXPECT_DOUBLE_EQ(both.shares.fallbackProbe, one.shares.uncovered - all.shares.uncovered);
+}
+
+// A damaged probe (its AO no longer matches its checksum) is found when it is first loaded and left
+// out: the frame is the one of a cache without it, and the walk goes on. Building the pass reads no
+// AO at all: a cache whose every AO section is damaged still builds, then has no probe to show.
+TEST_F(ResidencyGl, ADamagedProbeIsLeftOutAndTheGridBuildReadsNoAo) {
+    const CacheReader full(full_), less(lessOne_);
+    std::ifstream in(full_, std::ios::binary);
+    const std::vector<char> whole((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // A byte of probe i's AO section, found by its stored bytes: the first 64-byte run of them that
+    // occurs once in the file (flat AO makes equal blocks, in other probes too).
+    const auto aoByte = [&](std::size_t i) {
+        const std::vector<std::uint8_t> ao = full.copyProbe(i).aoConfidence;
+        const auto same = [](char a, std::uint8_t b) { return std::uint8_t(a) == b; };
+        for (std::size_t o = 0; o + 64 <= ao.size(); o += 16) {
+            const auto at = std::search(whole.begin(), whole.end(), ao.begin() + o, ao.begin() + o + 64, same);
+            if (std::search(at + 1, whole.end(), ao.begin() + o, ao.begin() + o + 64, same) == whole.end())
+                return std::size_t(at - whole.begin());
+        }
+        ADD_FAILURE() << "probe " << i << ": no run of its AO bytes is unique in the file";
+        return std::size_t(0);
+    };
+    const auto damagedCopy = [&](const std::string& name, std::span<const std::size_t> probes) {
+        std::vector<char> bytes = whole;
+        for (const std::size_t i : probes) bytes[aoByte(i)] ^= 0x20;
+        const std::string path = (*dir_ / name).string();
+        std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+        return path;
+    };
+    const std::size_t last = roomProbes().size() - 1;
+    const std::vector<std::size_t> one{last}, every{0, 1, 2, 3, 4, 5};
+    const CacheReader damaged(damagedCopy("one.cubeao", one)), allDamaged(damagedCopy("every.cubeao", every));
+    EXPECT_TRUE(test::contains(test::errorMessage([&] { damaged.probe(last); }), "checksum mismatch"));
+
+    const CameraView v = view({4.0f, 1.5f, 2.5f}, {6.0f, 0.5f, 0.5f});
+    auto expected = renderer(pass(less));
+    expected->render(v, 0);
+    auto r = renderer(pass(damaged));
+    auto& projection = dynamic_cast<ProbeProjectionPass&>(r->method());
+    for (int f = 0; f < 3; ++f) {
+        r->render(v, 0);
+        EXPECT_EQ(r->readRawAo().pixels, expected->readRawAo().pixels) << "frame " << f;
+    }
+    EXPECT_EQ(projection.residency().stats().damaged, 1u) << "found once, then left out";
+    EXPECT_FALSE(projection.source().isLive(std::uint32_t(last)));
+    EXPECT_EQ(projection.residency().stats().resident, last);
+
+    std::unique_ptr<FrameRenderer> none;
+    ASSERT_NO_THROW(none = renderer(pass(allDamaged)));
+    none->render(v, 0);
+    auto& empty = dynamic_cast<ProbeProjectionPass&>(none->method());
+    EXPECT_EQ(empty.residency().stats().damaged, roomProbes().size());
+    EXPECT_EQ(empty.residency().stats().resident, 0u);
+    EXPECT_GT(empty.pixelShares().geometry, 0.5);
+    EXPECT_EQ(empty.uncoveredFraction(), empty.pixelShares().geometry) << "no probe left: nothing covered";
 }
 
 }  // namespace

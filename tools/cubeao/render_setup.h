@@ -64,7 +64,8 @@ inline nlohmann::json residencyJson(const ProbeProjectionPass& p) {
             {"loads", r.loads},
             {"evictions", r.evictions},
             {"upload_bound_bytes", p.residency().uploadBound()},
-            {"max_frame_upload_bytes", r.maxFrameUploadBytes}};
+            {"max_frame_upload_bytes", r.maxFrameUploadBytes},
+            {"damaged", r.damaged}};
 }
 
 // The camera path's frame `frame` at width × height.

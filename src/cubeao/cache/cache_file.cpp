@@ -713,14 +713,35 @@ ProbeView CacheReader::probe(std::size_t i) const {
     return {e.index, e.position, e.maxDistance, {data_ + e.aoOffset, e.aoSize}, {data_ + e.depthOffset, e.depthSize}};
 }
 
+std::span<const std::uint8_t> CacheReader::unverifiedDepth(std::size_t i) const {
+    const Entry& e = entry(i);
+    return {data_ + e.depthOffset, e.depthSize};
+}
+
+namespace {
+
+// WILLNEED on the pages of [offset, offset + size) of a mapping (a neighbour's page read early is harmless).
+void willNeed(const std::uint8_t* data, std::uint64_t offset, std::uint64_t size) {
+    const auto page = std::uint64_t(::sysconf(_SC_PAGESIZE));
+    const std::uint64_t first = offset / page * page;
+    if (data && size > 0) ::madvise(const_cast<std::uint8_t*>(data) + first, offset + size - first, MADV_WILLNEED);
+}
+
+}  // namespace
+
 void CacheReader::prefetch(std::size_t i) const {
     const Entry& e = entry(i);
-    const auto page = std::uint64_t(::sysconf(_SC_PAGESIZE));
-    // WILLNEED on the pages around each section (reading a neighbour's page early is harmless).
-    for (const auto& [offset, size] : {std::pair(e.aoOffset, e.aoSize), std::pair(e.depthOffset, e.depthSize)}) {
-        const std::uint64_t first = offset / page * page;
-        if (data_ && size > 0) ::madvise(const_cast<std::uint8_t*>(data_) + first, offset + size - first, MADV_WILLNEED);
-    }
+    willNeed(data_, e.aoOffset, e.aoSize);
+    willNeed(data_, e.depthOffset, e.depthSize);
+}
+
+void CacheReader::prefetchDepth(std::size_t i) const {
+    const Entry& e = entry(i);
+    willNeed(data_, e.depthOffset, e.depthSize);
+}
+
+void CacheReader::adviseRandomAccess() const {
+    if (data_) ::madvise(const_cast<std::uint8_t*>(data_), size_, MADV_RANDOM);
 }
 
 void CacheReader::releaseAll() const {

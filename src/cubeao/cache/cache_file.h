@@ -165,6 +165,11 @@ public:
     // Spans into the mapping; checks probe i's checksum the first time it is asked for.
     ProbeView probe(std::size_t i) const;
     ProbeRecord copyProbe(std::size_t i) const;  // for tools
+    // Probe i's distance section without its checksum check, for readers that take a few texels of
+    // every probe as a hint and tolerate damage (the run-time candidate grid): the check hashes the
+    // AO too, so checking here would read the whole file at the start. probe(i) still checks the
+    // probe before anything uses its bytes for pixels.
+    std::span<const std::uint8_t> unverifiedDepth(std::size_t i) const;
 
     // Page hints for a reader that streams probes (runtime/probe_residency.h). prefetch: ask the
     // kernel to start reading probe i's payload now (MADV_WILLNEED), so a later probe(i) does not wait
@@ -174,7 +179,13 @@ public:
     // mapping, not one probe's pages: the kernel maps a probe's neighbours' pages along with its own
     // (large page-cache folios), and those would stay. Hints: failures are ignored.
     void prefetch(std::size_t i) const;
+    void prefetchDepth(std::size_t i) const;  // the distance section alone
     void releaseAll() const;
+    // The pages are read out of order from now on (a run-time streaming probes): a fault reads its
+    // own page and no read-around (MADV_RANDOM), and the reader asks for what it wants with prefetch
+    // and prefetchDepth. Without it a fault reads up to the device's read-ahead window around it
+    // (8 MiB on the development VM), so a few distance texels of every probe read the whole file.
+    void adviseRandomAccess() const;
 
     // Every probe checksum and the trailing file checksum; one Error listing every damaged probe.
     void verifyAll() const;

@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <spdlog/spdlog.h>
 
 #include "common/projection.h"
 #include "common/runtime_layout.h"
@@ -23,14 +24,16 @@ GLint uniformLocation(GLuint program, const char* name) {
     return location;
 }
 
-// Page hints are per probe; while the grid is built, the probes it has read are released in batches
-// so that building over a cache of any size keeps the RSS bounded.
+// Page hints are per probe: the grid reads a probe's distance section alone (one read of its pages,
+// asked for when it first touches the probe), and the probes it has read are released in batches so
+// that building over a cache of any size keeps the RSS bounded.
 class TouchedProbes {
 public:
     explicit TouchedProbes(const ProbeSource& source) : source_(source), mark_(source.size(), false) {}
     ~TouchedProbes() { releaseAll(); }
     void touch(std::uint32_t id) {
         if (id >= mark_.size() || mark_[id]) return;
+        source_.prefetchDepth(id);  // the texels the grid reads come from this section alone
         mark_[id] = true;
         ids_.push_back(id);
         if (ids_.size() >= 256) releaseAll();
@@ -334,6 +337,11 @@ std::vector<std::uint32_t> ProbeProjectionPass::wantedProbes(const CameraView& v
 void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) {
     residency_->update(source_, wantedProbes(view), unbounded_);
     unbounded_ = false;
+    // A damaged probe is left out, as if it had been removed: the walk goes on without it.
+    for (const ProbeResidency::Damaged& d : residency_->takeDamaged()) {
+        spdlog::warn("{}; left out: its pixels take the other probes", d.what);
+        removeProbe(d.id);
+    }
     updateResidentLists();
     countResidentCandidates();
     const GLuint p = diagnostics_ ? diagnosticsProgram_.id() : program_.id();

@@ -40,10 +40,12 @@ struct ProbeProjectionSettings {
 
 class ProbeProjectionPass : public AoPass {
 public:
-    // The probes of `cache` (read lazily from its mapping, checksums checked on first use) and the
-    // candidate grid over the scene's mesh (its bounds, and points sampled on its surfaces:
-    // probe_grid.h). The first frame loads what it wants without the per-frame bound. Needs a current
-    // GL 4.5 context; `cache` must outlive the pass.
+    // The probes of `cache` (read lazily from its mapping) and the candidate grid over the scene's
+    // mesh (its bounds, and points sampled on its surfaces: probe_grid.h), which reads a few distance
+    // texels of every probe and nothing of their AO. A probe's checksum is checked when it is first
+    // loaded; one that fails is left out with a warning (as removeProbe does; counted in
+    // residency().stats().damaged), and the frame goes on. The first frame loads what it wants
+    // without the per-frame bound. Needs a current GL 4.5 context; `cache` must outlive the pass.
     ProbeProjectionPass(const CacheReader& cache, std::span<const glm::vec3> positions,
                         std::span<const std::uint32_t> indices, const ProbeProjectionSettings& settings = {});
     // No probes yet: they come through addProbe (a viewer placing probes live). `params` are the

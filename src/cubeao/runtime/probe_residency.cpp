@@ -7,6 +7,7 @@
 #include <cstring>
 #include <string>
 #include <tuple>
+#include <utility>
 
 #include <glm/vec3.hpp>
 
@@ -81,6 +82,7 @@ ProbeAtlasLayout probeAtlasLayout(std::size_t slots, int res, int maxTextureSize
 
 ProbeSource::ProbeSource(const CacheReader* cache, const CacheParams& params) : cache_(cache), params_(params) {
     if (!cache) return;
+    cache->adviseRandomAccess();  // probes are read by priority, each section asked for (prefetch)
     probes_.resize(cache->probeCount());
     for (std::size_t i = 0; i < probes_.size(); ++i)
         probes_[i].position = cache->position(i), probes_[i].maxDistance = cache->maxDistance(i);
@@ -119,12 +121,18 @@ void ProbeSource::prefetch(std::uint32_t id) const {
     if (!probes_[id].added && cache_) cache_->prefetch(id);
 }
 
+void ProbeSource::prefetchDepth(std::uint32_t id) const {
+    if (!probes_[id].added && cache_) cache_->prefetchDepth(id);
+}
+
 void ProbeSource::releaseAll() const {
     if (cache_) cache_->releaseAll();
 }
 
 float ProbeSource::distance(std::uint32_t id, std::size_t texel) const {
-    const std::span<const std::uint8_t> bytes = view(id).depth;
+    const Probe& p = probes_[id];
+    const std::span<const std::uint8_t> bytes = p.added ? std::span<const std::uint8_t>(p.added->depth)
+                                                        : cache_->unverifiedDepth(id);
     const std::uint32_t size = depthBytesPerTexel(params_.depthFormat);
     std::uint32_t stored = 0;
     if (size == 2) {
@@ -134,7 +142,7 @@ float ProbeSource::distance(std::uint32_t id, std::size_t texel) const {
     } else {
         std::memcpy(&stored, bytes.data() + texel * 4, 4);
     }
-    return depth::decodeTexel(stored, params_.depthFormat, probes_[id].maxDistance);
+    return depth::decodeTexel(stored, params_.depthFormat, p.maxDistance);
 }
 
 // ---- ProbeResidency ------------------------------------------------------------------------------
@@ -324,8 +332,7 @@ void ProbeResidency::readFeedback() {
     }
 }
 
-void ProbeResidency::upload(const ProbeSource& source, std::uint32_t id, std::uint32_t slot, bool direct) {
-    const ProbeView p = source.view(id);  // checks a cache probe's checksum on first use
+void ProbeResidency::upload(const ProbeView& p, std::uint32_t slot, bool direct) {
     const int res = int(params_.res), depthRes = int(params_.depthRes);
     const glm::ivec3 a = slotCorner(atlas_, slot, res), d = slotCorner(atlas_, slot, depthRes);
     const void* ao = p.aoConfidence.data();
@@ -380,6 +387,16 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
                 if (slotOf_[wanted[a]] == kNoSlot) source.prefetch(wanted[a]);
             break;
         }
+        // A cache probe's checksum is checked on its first use, here, before a slot is freed for it.
+        ProbeView bytes;
+        try {
+            source.prefetch(id);  // one read of its pages, if the frames before did not ask already
+            bytes = source.view(id);
+        } catch (const Error& e) {
+            damaged_.push_back({id, e.what()});
+            ++stats_.damaged;
+            continue;
+        }
         while (nextFree < owner_.size() && owner_[nextFree] != kNoProbe) ++nextFree;
         std::uint32_t slot = kNoSlot;
         if (nextFree < owner_.size()) {
@@ -413,7 +430,7 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
             ++stats_.evictions;
             --stats_.resident;
         }
-        upload(source, id, slot, unbounded);
+        upload(bytes, slot, unbounded);
         // An unbounded update (the first frame, a cut) reads every probe it loads straight from the
         // mapping: drop the pages every kReleaseBytes, or the whole pool's worth stays resident
         // until the end of the batch (peak RSS = pool + its copy in the page cache).
@@ -434,6 +451,8 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
     if (frame_ > 0 && !unbounded) stats_.maxFrameUploadBytes = std::max(stats_.maxFrameUploadBytes, stats_.frameUploadBytes);
     stats_.frameUploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
+
+std::vector<ProbeResidency::Damaged> ProbeResidency::takeDamaged() { return std::exchange(damaged_, {}); }
 
 std::size_t glBufferBytes(GLuint buffer) {
     GLint64 size = 0;

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -64,9 +65,12 @@ public:
     // The stored bytes (a cache probe's checksum is checked on first use).
     ProbeView view(std::uint32_t id) const;
     void prefetch(std::uint32_t id) const;  // page hint for a cache probe; nothing for added ones
+    void prefetchDepth(std::uint32_t id) const;  // the same for its distance section alone
     void releaseAll() const;  // every cache page (CacheReader::releaseAll)
     // Distance-cube texel `texel` (cube::texelIndex order, depthRes faces) in world units, read from
-    // the stored bytes: what the candidate grid's visibility test needs, without a decoded copy.
+    // the stored bytes: what the candidate grid's visibility test needs, without a decoded copy. A
+    // cache probe's checksum is not checked here (CacheReader::unverifiedDepth): building the grid
+    // then reads the distance sections alone, not the whole file; view() checks it before upload.
     float distance(std::uint32_t id, std::size_t texel) const;
 
 private:
@@ -96,6 +100,7 @@ struct ResidencyStats {
     double frameUploadMs = 0.0;  // host time the last update spent staging and issuing uploads
     std::size_t maxFrameUploadBytes = 0;  // the largest frameUploadBytes so far (frames after the first)
     std::size_t gpuBytes = 0;  // everything the residency allocated (atlases, staging, table, feedback)
+    std::size_t damaged = 0;   // loads refused: the probe's stored bytes failed their checksum
 };
 
 // GL_BUFFER_SIZE of a buffer, as the driver reports it.
@@ -127,6 +132,14 @@ public:
     // evicting as described above, within the per-frame byte bound (`unbounded` lifts it: a viewer's
     // start or a cut to a new place, where the caller prefers one long frame to many poor ones).
     void update(const ProbeSource& source, std::span<const std::uint32_t> wanted, bool unbounded);
+    // Probes update() went to load whose stored bytes failed their checksum, with the reader's
+    // message, since the last call: never loaded; the caller leaves them out of the probe set
+    // (ProbeProjectionPass), or update() tries them again.
+    struct Damaged {
+        std::uint32_t id;
+        std::string what;
+    };
+    std::vector<Damaged> takeDamaged();
     // Frame in which the pixels last used or wanted probe `id` according to the feedback read so far
     // (-1: never), and the newest feedback's demand: sampled pixels (every 4th in x and y) that blended
     // it or had to pass over it while it was not resident.
@@ -157,7 +170,7 @@ private:
     void growAtlas(std::size_t slots, const ProbeSource& source);
     void writeEntry(std::uint32_t id, const ProbeSource& source);
     void readFeedback();
-    void upload(const ProbeSource& source, std::uint32_t id, std::uint32_t slot, bool direct);
+    void upload(const ProbeView& bytes, std::uint32_t slot, bool direct);
 
     CacheParams params_;
     std::size_t slots_ = 0, capacity_ = 0, uploadBound_ = 0;
@@ -172,6 +185,7 @@ private:
     std::int64_t demandFrame_ = -1;
     std::vector<std::int64_t> loadedAt_;      // per probe id: frame of its last load
     std::unique_ptr<Staging> staging_;
+    std::vector<Damaged> damaged_;
     std::int64_t frame_ = 0;
     std::uint64_t residentVersion_ = 0;
     std::size_t atlasBytes_ = 0;
