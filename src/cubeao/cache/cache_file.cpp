@@ -749,6 +749,7 @@ void CacheReader::releaseAll() const {
 }
 
 ProbeRecord CacheReader::copyProbe(std::size_t i) const {
+    prefetch(i);  // one read of its pages, also after adviseRandomAccess
     const ProbeView v = probe(i);
     return {v.index, v.position, v.maxDistance, {v.aoConfidence.begin(), v.aoConfidence.end()},
             {v.depth.begin(), v.depth.end()}};
@@ -760,6 +761,7 @@ void CacheReader::verifyAll() const {
     std::size_t damaged = 0;
     ReleasePacer pacer([this] { releaseAll(); });  // checking a cache of any size keeps little of it resident
     for (std::size_t i = 0; i < entries_.size(); ++i) {
+        prefetch(i);  // read ahead even after adviseRandomAccess
         const std::uint64_t computed = probeChecksum(entries_[i]);
         pacer.read(entries_[i].aoSize + entries_[i].depthSize);
         if (computed == entries_[i].checksum) {
@@ -775,6 +777,7 @@ void CacheReader::verifyAll() const {
     const HashState hash = newHashState();
     for (std::uint64_t at = 0; at < size_ - kTrailerSize; at += WriteOptions::kReleaseBytes) {
         const std::uint64_t n = std::min(WriteOptions::kReleaseBytes, size_ - kTrailerSize - at);
+        willNeed(data_, at, n);
         XXH3_64bits_update(hash.get(), data_ + at, n);
         pacer.read(n);
     }

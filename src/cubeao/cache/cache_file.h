@@ -183,8 +183,9 @@ public:
     void releaseAll() const;
     // The pages are read out of order from now on (a run-time streaming probes): a fault reads its
     // own page and no read-around (MADV_RANDOM), and the reader asks for what it wants with prefetch
-    // and prefetchDepth. Without it a fault reads up to the device's read-ahead window around it
-    // (8 MiB on the development VM), so a few distance texels of every probe read the whole file.
+    // and prefetchDepth (copyProbe and verifyAll ask for their pages themselves). Without it a fault
+    // reads up to the device's read-ahead window around it (8 MiB on the development VM), so a few
+    // distance texels of every probe read the whole file.
     void adviseRandomAccess() const;
 
     // Every probe checksum and the trailing file checksum; one Error listing every damaged probe.
