@@ -181,6 +181,30 @@ TEST_F(ViewerWindow, EveryViewModeRendersWithoutGlErrors) {
     EXPECT_TRUE(fs::exists(dir_ / "window.png"));
 }
 
+// Live placement over an opened cache baked with other than the default rays and AO filter: the live
+// traced bake takes the cache's own settings, so the cache's probes are adopted (they were refused:
+// "baked with other parameters than the live bake") and saved back with the cache's parameters.
+TEST_F(ViewerWindow, LivePlacementAdoptsACacheBakedWithItsOwnSettings) {
+    const Scene scene = loadScene("builtin:box-room");
+    const CameraPath path = resolveCameraPath("", "builtin:box-room");
+    const fs::path cache = dir_ / "box.cubeao", saved = dir_ / "saved.cubeao";
+    BakeSettings s = test::bakeSettings(Estimator::Traced, 16, scene.defaultRadius(), 8);
+    s.denoise = 0;
+    const std::vector<glm::vec3> probes = {path.frames[0].eye, path.frames[path.frames.size() / 2].eye};
+    test::bakeCache(scene, probes, s, cache);
+    const CacheReader opened(cache);
+    ASSERT_EQ(opened.params().spp, 8u);
+    ASSERT_EQ(opened.params().denoise, 0u);
+    view("builtin:box-room --cache " + cache.string() + " --bake-ms 1000 --coverage-target 0.01",
+         "size 96 54\npath 0\nlive on\nframes 2\nsave " + saved.string() + "\nquit\n");
+    const nlohmann::json st = stats();
+    ASSERT_TRUE(st.contains("live")) << st.dump(2);
+    EXPECT_EQ(st["probes"].get<std::size_t>(), probes.size()) << st.dump(2);
+    const CacheReader back(saved);
+    EXPECT_EQ(back.probeCount(), probes.size());
+    EXPECT_TRUE(back.params() == opened.params()) << "saved with the opened cache's parameters";
+}
+
 // Live placement from no probes on builtin:box-room: the walk ends above the coverage target, every
 // placed probe is baked and in the pass, and the saved cache verifies.
 TEST_F(ViewerWindow, LivePlacementFromNoProbes) {

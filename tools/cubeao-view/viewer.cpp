@@ -338,6 +338,15 @@ BakeSettings Viewer::liveBake(Estimator estimator) const {
         const CacheParams& p = cache_->params();
         b.res = int(p.res), b.depthRes = int(p.depthRes), b.depthFormat = p.depthFormat;
         b.ao.falloff = Falloff(p.falloff);
+        b.ao.seed = p.seed;
+        // The opened cache's own estimator bakes as the cache did (rays, filter, horizon steps), so
+        // its probes and the live bake's replace each other (LivePlacement::adopt needs them equal).
+        if (Estimator(p.estimator) == estimator) {
+            if (tracesRays(estimator)) b.ao.spp = int(p.spp);
+            b.denoise = int(p.denoise);
+            if (estimator != Estimator::Traced) b.directions = int(p.directions), b.steps = int(p.steps);
+            if (estimator == Estimator::Hybrid) b.hybridThreshold = p.hybridThreshold;
+        }
     }
     return resolveBakeSettings(b, scene_.defaultRadius());
 }
