@@ -6,8 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <iterator>
 #include <memory>
 #include <random>
 #include <string>
@@ -25,6 +23,7 @@
 #include "cubeao/ssao/gtao_fallback.h"
 #include "cubeao/ssao/ssao_pass.h"
 #include "bake_test_settings.h"
+#include "damaged_cache.h"
 #include "runtime_test_util.h"
 #include "test_util.h"
 
@@ -345,31 +344,11 @@ TEST_F(ResidencyGl, APointItsCellsCandidatesDoNotSeeTakesTheResidentProbesNearIt
 // AO at all: a cache whose every AO section is damaged still builds, then has no probe to show.
 TEST_F(ResidencyGl, ADamagedProbeIsLeftOutAndTheGridBuildReadsNoAo) {
     const CacheReader full(full_), less(lessOne_);
-    std::ifstream in(full_, std::ios::binary);
-    const std::vector<char> whole((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    // A byte of probe i's AO section, found by its stored bytes: the first 64-byte run of them that
-    // occurs once in the file (flat AO makes equal blocks, in other probes too).
-    const auto aoByte = [&](std::size_t i) {
-        const std::vector<std::uint8_t> ao = full.copyProbe(i).aoConfidence;
-        const auto same = [](char a, std::uint8_t b) { return std::uint8_t(a) == b; };
-        for (std::size_t o = 0; o + 64 <= ao.size(); o += 16) {
-            const auto at = std::search(whole.begin(), whole.end(), ao.begin() + o, ao.begin() + o + 64, same);
-            if (std::search(at + 1, whole.end(), ao.begin() + o, ao.begin() + o + 64, same) == whole.end())
-                return std::size_t(at - whole.begin());
-        }
-        ADD_FAILURE() << "probe " << i << ": no run of its AO bytes is unique in the file";
-        return std::size_t(0);
-    };
-    const auto damagedCopy = [&](const std::string& name, std::span<const std::size_t> probes) {
-        std::vector<char> bytes = whole;
-        for (const std::size_t i : probes) bytes[aoByte(i)] ^= 0x20;
-        const std::string path = (*dir_ / name).string();
-        std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
-        return path;
-    };
     const std::size_t last = roomProbes().size() - 1;
     const std::vector<std::size_t> one{last}, every{0, 1, 2, 3, 4, 5};
-    const CacheReader damaged(damagedCopy("one.cubeao", one)), allDamaged(damagedCopy("every.cubeao", every));
+    test::writeWithDamagedAo(full_, one, *dir_ / "one.cubeao");
+    test::writeWithDamagedAo(full_, every, *dir_ / "every.cubeao");
+    const CacheReader damaged(*dir_ / "one.cubeao"), allDamaged(*dir_ / "every.cubeao");
     EXPECT_TRUE(test::contains(test::errorMessage([&] { damaged.probe(last); }), "checksum mismatch"));
 
     const CameraView v = view({4.0f, 1.5f, 2.5f}, {6.0f, 0.5f, 0.5f});

@@ -14,6 +14,7 @@
 
 #include "bake_test_settings.h"
 #include "cli_run.h"
+#include "damaged_cache.h"
 #include "cubeao-view/script.h"
 #include "cubeao-view/view_modes.h"
 #include "cubeao/cache/cache_file.h"
@@ -183,7 +184,8 @@ TEST_F(ViewerWindow, EveryViewModeRendersWithoutGlErrors) {
 
 // Live placement over an opened cache baked with other than the default rays and AO filter: the live
 // traced bake takes the cache's own settings, so the cache's probes are adopted (they were refused:
-// "baked with other parameters than the live bake") and saved back with the cache's parameters.
+// "baked with other parameters than the live bake") and saved back with the cache's parameters. A
+// damaged probe is left out by the view and by live placement, which adopts the others.
 TEST_F(ViewerWindow, LivePlacementAdoptsACacheBakedWithItsOwnSettings) {
     const Scene scene = loadScene("builtin:box-room");
     const CameraPath path = resolveCameraPath("", "builtin:box-room");
@@ -203,6 +205,17 @@ TEST_F(ViewerWindow, LivePlacementAdoptsACacheBakedWithItsOwnSettings) {
     const CacheReader back(saved);
     EXPECT_EQ(back.probeCount(), probes.size());
     EXPECT_TRUE(back.params() == opened.params()) << "saved with the opened cache's parameters";
+
+    // A damaged probe: left out by live placement, which starts before the first frame here (--live),
+    // and by the pass; the other probe is adopted and saved.
+    const std::vector<std::size_t> second{1};
+    test::writeWithDamagedAo(cache, second, dir_ / "damaged.cubeao");
+    const ProgramRun damaged = view("builtin:box-room --cache " + (dir_ / "damaged.cubeao").string() +
+                                        " --live --bake-ms 1000 --coverage-target 0.01",
+                                    "size 96 54\npath 0\nframes 2\nsave " + saved.string() + "\nquit\n");
+    EXPECT_NE(damaged.out.find("probe 1: checksum mismatch"), std::string::npos) << damaged.out;
+    EXPECT_EQ(stats()["probes"].get<std::size_t>(), 1u);
+    EXPECT_EQ(CacheReader(saved).probeCount(), 1u);
 }
 
 // Live placement from no probes on builtin:box-room: the walk ends above the coverage target, every

@@ -378,12 +378,21 @@ void Viewer::startLive() {
         live_ = std::make_unique<placement::LivePlacement>(*placementScene_, liveBake(Estimator::HorizonSplit),
                                                            liveBake(Estimator::Traced), ls);
         if (cache_) {
-            // The opened cache's probes are the pass's ids 0..n-1 (ProbeSource keeps the cache's order).
+            // The opened cache's probes are the pass's ids 0..n-1 (ProbeSource keeps the cache's order);
+            // a damaged one is left out here as the pass leaves it out (or already has).
             std::vector<ProbeRecord> records;
             std::vector<std::uint32_t> ids;
             for (std::size_t i = 0; i < cache_->probeCount(); ++i) {
-                records.push_back(cache_->copyProbe(i));
-                ids.push_back(std::uint32_t(i));
+                const auto id = std::uint32_t(i);
+                if (!pass->source().isLive(id)) continue;
+                try {
+                    records.push_back(cache_->copyProbe(i));
+                } catch (const Error& e) {
+                    spdlog::warn("cubeao-view: {}; left out", e.what());
+                    pass->removeProbe(id);
+                    continue;
+                }
+                ids.push_back(id);
             }
             live_->adopt(std::move(records), ids, cache_->params());
         }
