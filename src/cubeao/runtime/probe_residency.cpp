@@ -387,21 +387,9 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
                 if (slotOf_[wanted[a]] == kNoSlot) source.prefetch(wanted[a]);
             break;
         }
-        // A cache probe's checksum is checked on its first use, here, before a slot is freed for it.
-        ProbeView bytes;
-        try {
-            source.prefetch(id);  // one read of its pages, if the frames before did not ask already
-            bytes = source.view(id);
-        } catch (const Error& e) {
-            damaged_.push_back({id, e.what()});
-            ++stats_.damaged;
-            continue;
-        }
         while (nextFree < owner_.size() && owner_[nextFree] != kNoProbe) ++nextFree;
-        std::uint32_t slot = kNoSlot;
-        if (nextFree < owner_.size()) {
-            slot = std::uint32_t(nextFree);
-        } else {
+        std::uint32_t victim = kNoProbe;  // kNoProbe: slot nextFree is free
+        if (nextFree == owner_.size()) {
             if (!victimsMade) {  // resident, not wanted: the least demanded, then least recently used, first
                 isWanted.assign(slotOf_.size(), false);
                 for (std::uint32_t v : wanted) isWanted[v] = true;
@@ -414,7 +402,7 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
                 victimsMade = true;
             }
             if (victims.empty()) break;  // every resident probe is wanted more
-            const std::uint32_t victim = victims.back();
+            victim = victims.back();
             // Hysteresis: a probe the pixels use gives way only to one they want clearly more, or two
             // probes of similar demand would swap places every frame (and every swap is an upload).
             // A probe only ranked by place (no pixel asked for it yet) does not displace one loaded
@@ -422,6 +410,20 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
             const bool victimInUse = lastUsed_[victim] >= frame_ - kInUseFrames;
             if (victimInUse && double(demand_[id]) <= kSwapMargin * double(demand_[victim]) + kSwapMinimum) break;
             if (demand_[id] == 0 && loadedAt_[victim] >= frame_ - kFreshFrames) break;
+        }
+        // The probe will be loaded: its bytes are read (a cache probe's checksum checked on first use)
+        // before its slot is freed, and not at all for a probe the hysteresis keeps out.
+        ProbeView bytes;
+        try {
+            source.prefetch(id);  // one read of its pages, if the frames before did not ask already
+            bytes = source.view(id);
+        } catch (const Error& e) {
+            damaged_.push_back({id, e.what()});
+            ++stats_.damaged;
+            continue;
+        }
+        auto slot = std::uint32_t(nextFree);
+        if (victim != kNoProbe) {
             victims.pop_back();
             slot = slotOf_[victim];
             slotOf_[victim] = kNoSlot;
