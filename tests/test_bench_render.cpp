@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_run.h"
+#include "cubeao/cache/synthetic_probes.h"
+#include "cubeao/core/error.h"
 #include "gl_fixture.h"
 
 namespace {
@@ -16,6 +18,7 @@ namespace {
 using cubeao::test::CliRun;
 using cubeao::test::lastLine;
 using cubeao::test::runCli;
+using cubeao::test::runCommand;
 
 TEST(BenchRenderCli, UsageErrors) {
     EXPECT_EQ(runCli("bench render --methods probes,ssao").code, 2);
@@ -107,6 +110,99 @@ TEST_F(GlTest, BenchRenderSyntheticSweepUnderABudget) {
     for (const nlohmann::json& s : second["sweep"])
         EXPECT_TRUE(s["cache_reused"].get<bool>()) << s["probes"] << ": the kept cache is read again";
     fs::remove_all(dir);
+}
+
+// The made-up payloads both benchmarks time (cache/synthetic_probes.h): what they promise the
+// projection (every distance far, confidence never 0), deterministic, round-robin over the positions.
+TEST(SyntheticProbes, FarDistancesNonZeroConfidenceSharedRoundRobin) {
+    using namespace cubeao;
+    CacheParams params;
+    params.res = 8;
+    params.depthRes = 2;
+    params.radius = 1.0f;
+    const std::vector<ProbeRecord> a = syntheticPayloads(params, 50.0f, 3), b = syntheticPayloads(params, 50.0f, 3);
+    ASSERT_EQ(a.size(), 3u);
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        EXPECT_EQ(a[k].aoConfidence, b[k].aoConfidence) << "deterministic";
+        EXPECT_EQ(a[k].depth, b[k].depth);
+        ASSERT_EQ(a[k].aoConfidence.size(), aoSectionSize(params));
+        ASSERT_EQ(a[k].depth.size(), depthSectionSize(params));
+        EXPECT_EQ(a[k].maxDistance, 50.0f);
+        for (std::size_t t = 0; t < a[k].depth.size(); t += 2)
+            EXPECT_GE(a[k].depth[t] | a[k].depth[t + 1] << 8, 60000) << "r16unorm: beyond 0.9155 of maxDistance";
+        for (std::size_t blk = 0; blk < a[k].aoConfidence.size(); blk += 16) {
+            EXPECT_EQ(a[k].aoConfidence[blk + 8], 255) << "confidence endpoint 0";
+            EXPECT_GE(a[k].aoConfidence[blk + 9], 128) << "confidence endpoint 1: >= 0.5";
+            EXPECT_LT(a[k].aoConfidence[blk + 9], 255) << "g0 > g1: the 8-level mode, no code reads 0";
+        }
+    }
+    EXPECT_NE(a[0].aoConfidence, a[1].aoConfidence) << "distinct payloads";
+    const std::vector<glm::vec3> positions{glm::vec3(1.0f), glm::vec3(2.0f), glm::vec3(3.0f), glm::vec3(4.0f)};
+    const std::vector<ProbeView> views = syntheticProbeViews(positions, a);
+    ASSERT_EQ(views.size(), 4u);
+    for (std::size_t i = 0; i < views.size(); ++i) {
+        EXPECT_EQ(views[i].index, i);
+        EXPECT_EQ(views[i].position, positions[i]);
+        EXPECT_EQ(views[i].aoConfidence.data(), a[i % 3].aoConfidence.data()) << "shared, not copied";
+    }
+    params.depthFormat = DepthFormat::R32Float;
+    EXPECT_THROW(syntheticPayloads(params, 50.0f, 1), Error);
+}
+
+// cubeao-gpubench, the binary that travels to a GPU machine: usage errors, then a tiny run through
+// each clock. On llvmpipe "auto" is the measuring renderer (wall clock); "pipeline" runs the frame
+// loop (no glFinish per pass, timer queries collected frames later), whose times mean nothing here,
+// so only its bookkeeping is checked.
+CliRun runGpuBench(const std::string& args) {
+    return runCommand(std::string(CUBEAO_GPUBENCH_BINARY) + " " + args + " 2>/dev/null");
+}
+
+TEST(GpuBenchCli, UsageErrors) {
+    EXPECT_EQ(runGpuBench("--scene scene.obj").code, 2) << "only built-in scenes travel";
+    EXPECT_EQ(runGpuBench("--res 6").code, 2);
+    EXPECT_EQ(runGpuBench("--probes 0").code, 2);
+    EXPECT_EQ(runGpuBench("--methods probes,hbao").code, 2);
+    EXPECT_EQ(runGpuBench("--clock gpu").code, 2);
+    EXPECT_EQ(runGpuBench("--frames 0").code, 2);
+    EXPECT_EQ(runGpuBench("--gpu-budget-mb -1").code, 2);
+}
+
+TEST_F(GlTest, GpuBenchTimesTheProbesAndGtaoThroughEitherClock) {
+    const std::string base = "--scene builtin:box-room --res 8 --width 64 --height 36 --warmup 1 --json ";
+    const CliRun wall = runGpuBench(base + "--probes 30 --frames 2");
+    ASSERT_EQ(wall.code, 0) << wall.out;
+    const nlohmann::json w = lastLine(wall.out);
+    EXPECT_EQ(w["clock"], "wall_clock_glfinish") << "llvmpipe's timer queries do not time the work";
+    for (const char* method : {"probes", "gtao"}) {
+        const nlohmann::json& m = w["methods"][method];
+        EXPECT_EQ(m["timed_frames"].get<int>(), 2) << method;
+        EXPECT_EQ(m["counted_frames"].get<int>(), 2) << method;
+        for (const char* pass : {"gbuffer", "ao", "blur", "composite", "ao_blur", "gpu_total"})
+            EXPECT_GT(m["timings_ms"][pass].get<double>(), 0.0) << method << " " << pass;
+        EXPECT_GT(m["fetches_per_pixel"].get<double>(), 2.0) << method;
+    }
+    const nlohmann::json& p = w["methods"]["probes"];
+    EXPECT_EQ(p["residency"]["resident"].get<int>(), 30) << "no budget: every probe resident";
+    EXPECT_EQ(p["residency"]["damaged"].get<int>(), 0);
+    EXPECT_GT(p["gpu_bytes"].get<double>(), 0.0);
+    EXPECT_LT(p["uncovered_fraction"].get<double>(), 0.05) << "synthetic distances: the probes see every surface";
+    const nlohmann::json& t = w["targets"]["projection_blur_1080p_2000_probes_ms"];
+    EXPECT_FALSE(t["applies"].get<bool>()) << "64x36, 30 probes, llvmpipe";
+    EXPECT_DOUBLE_EQ(t["value"].get<double>(), p["timings_ms"]["ao_blur"].get<double>());
+
+    const CliRun loop = runGpuBench(base + "--probes 300 --frames 6 --clock pipeline --methods probes --gpu-budget-mb 0.72 --upload-mb 0.01");
+    ASSERT_EQ(loop.code, 0) << loop.out;
+    const nlohmann::json l = lastLine(loop.out);
+    EXPECT_EQ(l["clock"], "frame_pipeline_timer_queries");
+    const nlohmann::json& q = l["methods"]["probes"];
+    EXPECT_FALSE(l["methods"].contains("gtao"));
+    EXPECT_GE(q["timed_frames"].get<int>(), 1) << "the ring's results, collected frames later";
+    EXPECT_LE(q["timed_frames"].get<int>(), 6);
+    EXPECT_EQ(q["counted_frames"].get<int>(), 1) << "the counters are read once, after the loop";
+    EXPECT_GT(q["issue_ms"]["max"].get<double>(), 0.0);
+    EXPECT_GE(q["issue_ms"]["max"].get<double>(), q["issue_ms"]["median"].get<double>());
+    EXPECT_LT(q["residency"]["slots"].get<int>(), 300) << "0.72 MiB holds part of the cache";
+    EXPECT_LE(q["gpu_bytes"].get<double>(), 0.72 * 1024 * 1024);
 }
 
 }  // namespace

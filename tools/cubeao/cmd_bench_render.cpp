@@ -43,6 +43,7 @@
 #include "render_setup.h"
 #include "cubeao/bake/bake.h"
 #include "cubeao/bake/bake_driver.h"
+#include "cubeao/cache/synthetic_probes.h"
 #include "cubeao/core/error.h"
 #include "cubeao/core/progress.h"
 #include "cubeao/gl/context.h"
@@ -137,16 +138,10 @@ struct SweepProbes {
 
     // The first `count` probes as views for writeCache (into records or payloads: valid while this lives).
     std::vector<ProbeView> views(std::size_t count) const {
+        if (synthetic) return syntheticProbeViews(std::span(positions).first(count), payloads);
         std::vector<ProbeView> out;
         out.reserve(count);
-        for (std::size_t i = 0; i < count; ++i) {
-            if (!synthetic) {
-                out.push_back(viewOf(records[i]));
-                continue;
-            }
-            const ProbeRecord& p = payloads[i % payloads.size()];
-            out.push_back({std::uint32_t(i), positions[i], p.maxDistance, p.aoConfidence, p.depth});
-        }
+        for (std::size_t i = 0; i < count; ++i) out.push_back(viewOf(records[i]));
         return out;
     }
 };
@@ -181,42 +176,21 @@ SweepProbes bakeSweepProbes(const RenderBenchArgs& a, const Scene& scene, const 
 
 constexpr std::size_t kSyntheticPayloads = 8;
 
-// Made-up payloads that make the projection do all its work, as a bake's would: every distance texel
-// lies beyond the scene's diagonal (so every candidate passes the depth test wherever its surface
-// faces it, and the best-two blend always runs), AO blocks with random endpoints and codes (varied
-// texels), confidence in [0.5, 1] (green endpoints 255 > g1 ≥ 128: the 8-level mode, no code reads 0).
+// Made-up payloads (cache/synthetic_probes.h: every candidate passes the depth test wherever its
+// surface faces it, so the projection does all its work) at the sweep's positions.
 SweepProbes syntheticSweepProbes(const RenderBenchArgs& a, const Scene& scene, const CameraPath& path,
                                  std::size_t count) {
     SweepProbes s;
     s.synthetic = true;
     s.settings = sweepBakeSettings(a, scene);
-    if (s.settings.depthFormat != DepthFormat::R16Unorm)
-        throw Error("bench render --synthetic: writes r16unorm distances, the bake's default format");
-    const CacheParams params = cacheParamsFor(s.settings, scene);
     const auto start = std::chrono::steady_clock::now();
     {
         const EmbreeScene rt(scene);
         const float r = s.settings.ao.radius;
         s.positions = sweepPositions(rt, path, 10.0f * r, 0.25f * r, count);
     }
-    std::mt19937 rng(2);
-    const float maxDistance = 1.1f * scene.bounds.diagonal();
-    for (std::size_t k = 0; k < kSyntheticPayloads; ++k) {
-        ProbeRecord p;
-        p.maxDistance = maxDistance;
-        p.aoConfidence.resize(aoSectionSize(params));
-        for (std::size_t b = 0; b < p.aoConfidence.size(); b += 16) {
-            std::uint8_t* block = p.aoConfidence.data() + b;
-            for (int i = 0; i < 16; ++i) block[i] = std::uint8_t(rng());
-            block[8] = 255, block[9] = std::uint8_t(128 + rng() % 127);  // confidence endpoints
-        }
-        p.depth.resize(depthSectionSize(params));
-        for (std::size_t t = 0; t + 1 < p.depth.size(); t += 2) {  // little-endian r16unorm in [60000, 65535]
-            const std::uint16_t v = std::uint16_t(60000 + rng() % 5536);
-            p.depth[t] = std::uint8_t(v & 0xff), p.depth[t + 1] = std::uint8_t(v >> 8);
-        }
-        s.payloads.push_back(std::move(p));
-    }
+    s.payloads = syntheticPayloads(cacheParamsFor(s.settings, scene), 1.1f * scene.bounds.diagonal(),
+                                   kSyntheticPayloads);
     s.bakeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     spdlog::info("bench render: {} synthetic sweep probes at {}² ({} shared payloads)", count, a.res,
                  kSyntheticPayloads);
