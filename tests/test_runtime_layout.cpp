@@ -55,21 +55,25 @@ void expectPixelGroup(GLuint program, const std::string& name) {
     EXPECT_EQ(size[2], 1) << name;
 }
 
-// The Counters block of project.comp and ssao.glsl: kernel::PassCounters at kPassCountersBuffer.
+// The Counters block of project.comp and ssao.glsl (pass_counters.glsl): kCounterStripes
+// kernel::PassCounters at kPassCountersBuffer, the layout sumPassCounters reads.
 void expectPassCounters(GLuint program, const std::string& name) {
     EXPECT_EQ(blockBinding(program, "Counters"), k::kPassCountersBuffer) << name;
     EXPECT_EQ(resourceProperty(program, GL_SHADER_STORAGE_BLOCK, "Counters", GL_BUFFER_DATA_SIZE),
+              GLint(k::kPassCounterBytes))
+        << name;
+    EXPECT_EQ(resourceProperty(program, GL_BUFFER_VARIABLE, "counters[0].fetchesLow", GL_TOP_LEVEL_ARRAY_STRIDE),
               GLint(sizeof(k::PassCounters)))
         << name;
-    EXPECT_EQ(variableOffset(program, "counters.fetchesLow"), GLint(offsetof(k::PassCounters, fetchesLow)))
+    EXPECT_EQ(variableOffset(program, "counters[0].fetchesLow"), GLint(offsetof(k::PassCounters, fetchesLow)))
         << name;
-    EXPECT_EQ(variableOffset(program, "counters.fetchesHigh"), GLint(offsetof(k::PassCounters, fetchesHigh)))
+    EXPECT_EQ(variableOffset(program, "counters[0].fetchesHigh"), GLint(offsetof(k::PassCounters, fetchesHigh)))
         << name;
-    EXPECT_EQ(variableOffset(program, "counters.uncovered"), GLint(offsetof(k::PassCounters, uncovered)))
+    EXPECT_EQ(variableOffset(program, "counters[0].uncovered"), GLint(offsetof(k::PassCounters, uncovered)))
         << name;
-    EXPECT_EQ(variableOffset(program, "counters.fallbackProbe"), GLint(offsetof(k::PassCounters, fallbackProbe)))
+    EXPECT_EQ(variableOffset(program, "counters[0].fallbackProbe"), GLint(offsetof(k::PassCounters, fallbackProbe)))
         << name;
-    EXPECT_EQ(variableOffset(program, "counters.geometry"), GLint(offsetof(k::PassCounters, geometry))) << name;
+    EXPECT_EQ(variableOffset(program, "counters[0].geometry"), GLint(offsetof(k::PassCounters, geometry))) << name;
 }
 
 TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {

@@ -53,6 +53,15 @@ struct PassCounters {
     uint padding2;
 };
 
+// Passes count into kCounterStripes PassCounters, a work group into stripe (its index mod
+// kCounterStripes; pass_counters.glsl), each invocation with its own atomics, and the host sums the
+// stripes (sumPassCounters). One counter block reduced in shared memory needs a barrier, and a
+// barrier anywhere in a shader makes Mesa llvmpipe run every group as coroutines: 0.04 of a GTAO
+// pass at 1080p in the projection (docs/BENCHMARKS.md). Per-invocation atomics on one block instead
+// made the CPU's threads fight over its cache line; on stripes, groups that run at once rarely
+// share one. (A GPU's compiler merges a warp's atomics on one address into one.)
+CUBEAO_CONST uint kCounterStripes = 64u;
+
 // One probe as the projection reads it (std430, 32 bytes: vec3 + float pack into 16, then four words).
 // Indexed by probe id (the cache's order, then probes added at run time); a removed probe keeps its
 // entry with slot = kNoSlot and appears in no cell.
@@ -156,6 +165,21 @@ static_assert(sizeof(FallbackList) == 16 && offsetof(FallbackList, groupsZ) == 8
 static_assert(sizeof(FallbackCounters) == 16 && offsetof(FallbackCounters, blended) == 4 &&
               offsetof(FallbackCounters, fetchesLow) == 8 && offsetof(FallbackCounters, fetchesHigh) == 12);
 static_assert(kFallbackBlendPixels >= 1 && kFallbackBlendPixels <= kPixelGroupSize);  // d² < 64: 6 bits
+
+// What one PassCounters would hold had every group counted into it: the sum of the stripes.
+struct PassCountTotals {
+    std::uint64_t fetches = 0, uncovered = 0, fallbackProbe = 0, geometry = 0;
+};
+inline PassCountTotals sumPassCounters(const PassCounters* stripes) {
+    PassCountTotals t;
+    for (uint i = 0; i < kCounterStripes; ++i) {
+        const PassCounters& c = stripes[i];
+        t.fetches += joinWords(c.fetchesLow, c.fetchesHigh);
+        t.uncovered += c.uncovered, t.fallbackProbe += c.fallbackProbe, t.geometry += c.geometry;
+    }
+    return t;
+}
+constexpr std::size_t kPassCounterBytes = kCounterStripes * sizeof(PassCounters);  // one pass's counter buffer
 
 // Work groups that cover n pixels along one axis.
 constexpr unsigned pixelGroups(int n) { return unsigned((n + kPixelGroupSize - 1) / kPixelGroupSize); }

@@ -28,6 +28,7 @@
 // production kernel's, bit for bit.
 #include "camera.h"
 #include "cube.h"
+#include "pass_counters.glsl"
 #include "projection.h"
 #include "runtime_layout.h"
 
@@ -47,7 +48,6 @@ layout(std430, binding = kProbeTableBuffer) readonly buffer ProbeTable { ProbeEn
 layout(std430, binding = kCandidateBuffer) readonly buffer Candidates { uint candidates[]; };
 layout(std430, binding = kResidentCandidateBuffer) readonly buffer ResidentCandidates { uint residentCandidates[]; };
 layout(std430, binding = kCellResidentCountBuffer) readonly buffer CellResidentCounts { uint residentCount[]; };
-layout(std430, binding = kPassCountersBuffer) buffer Counters { PassCounters counters; };
 layout(std430, binding = kProbeFeedbackBuffer) buffer Feedback { uint demand[]; };
 
 uniform mat4 worldFromView;
@@ -63,8 +63,6 @@ uniform ivec3 residentDims;
 uniform int residentPerCell;
 uniform ProjectionParams params;
 uniform float uncoveredAo;
-
-shared uint groupUncovered, groupFallback, groupGeometry, groupFetches;
 
 uint cellBase = 0u;  // first candidate slot of the pixel's cell
 bool secondList = false;  // projectionCandidate reads the second list (from residentBase)
@@ -114,13 +112,7 @@ vec4 probeDiagnostics(ProjectedAo projected, bool fallbackPath, vec3 x, vec3 n) 
 #endif
 
 void main() {
-    if (gl_LocalInvocationIndex == 0u) {
-        groupUncovered = 0u;
-        groupFallback = 0u;
-        groupGeometry = 0u;
-        groupFetches = 0u;
-    }
-    barrier();
+    uint stripe = counterStripe();  // pass_counters.glsl: no shared memory, no barrier
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     if (onScreen(px)) {
         float depth = texelFetch(depthTex, px, 0).r;
@@ -160,12 +152,12 @@ void main() {
 #ifdef PROJECT_DIAGNOSTICS
             diagnostics = probeDiagnostics(projected, fallbackPath, x, n);
 #endif
-            atomicAdd(groupGeometry, 1u);
+            atomicAdd(counters[stripe].geometry, 1u);
             if (projected.used == 0) {
                 ao = uncoveredAo;
-                atomicAdd(groupUncovered, 1u);
+                atomicAdd(counters[stripe].uncovered, 1u);
             } else if (fallbackPath) {
-                atomicAdd(groupFallback, 1u);
+                atomicAdd(counters[stripe].fallbackProbe, 1u);
             }
             if ((px.x & 3) == 0 && (px.y & 3) == 0) {
                 // Weight 2 for the probe the point wants most: the missing one ranked first, else
@@ -181,13 +173,5 @@ void main() {
         imageStore(diagnosticsOut, px, diagnostics);
 #endif
     }
-    atomicAdd(groupFetches, fetches);
-    barrier();
-    if (gl_LocalInvocationIndex == 0u) {
-        atomicAdd(counters.uncovered, groupUncovered);
-        atomicAdd(counters.fallbackProbe, groupFallback);
-        atomicAdd(counters.geometry, groupGeometry);
-        uint before = atomicAdd(counters.fetchesLow, groupFetches);
-        if (before + groupFetches < before) atomicAdd(counters.fetchesHigh, 1u);
-    }
+    countFetches(stripe, fetches);
 }

@@ -127,12 +127,12 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     glNamedBufferStorage(nearestCells_.id(), GLsizeiptr(nearest_->table().size() * sizeof(std::uint32_t)),
                          nearest_->table().data(), GL_DYNAMIC_STORAGE_BIT);
     counters_ = gl::Buffer::create();
-    glNamedBufferStorage(counters_.id(), sizeof(kernel::PassCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(counters_.id(), kernel::kPassCounterBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
     sharesRing_ = gl::Buffer::create();
     const GLbitfield readFlags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
-    glNamedBufferStorage(sharesRing_.id(), GLsizeiptr(kSharesRing * sizeof(kernel::PassCounters)), nullptr, readFlags);
+    glNamedBufferStorage(sharesRing_.id(), GLsizeiptr(kSharesRing * kernel::kPassCounterBytes), nullptr, readFlags);
     sharesMapped_ =
-        glMapNamedBufferRange(sharesRing_.id(), 0, GLsizeiptr(kSharesRing * sizeof(kernel::PassCounters)), readFlags);
+        glMapNamedBufferRange(sharesRing_.id(), 0, GLsizeiptr(kSharesRing * kernel::kPassCounterBytes), readFlags);
     if (!sharesMapped_) throw Error("probe projection: cannot map the counters' read-back ring");
     // An empty start without a budget: a pool for the probes expected, grown as they come.
     residency_ = std::make_unique<ProbeResidency>(source_, ownGpuBytes(), settings.residency, cache ? 0 : expectedProbes);
@@ -185,7 +185,7 @@ void ProbeProjectionPass::setDiagnostics(bool on) {
 std::size_t ProbeProjectionPass::ownGpuBytes() const {
     // cells_, residentCounts_, nearestCells_, counters_ and the shares' read-back ring
     return (grid_->table().size() + grid_->cellCount() + nearest_->table().size()) * sizeof(std::uint32_t) +
-           (1 + kSharesRing) * sizeof(kernel::PassCounters);
+           (1 + kSharesRing) * kernel::kPassCounterBytes;
 }
 
 std::size_t ProbeProjectionPass::gpuBytes() const {
@@ -379,8 +379,8 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
         collectShares();
         if (sharesFences_[r]) glDeleteSync(sharesFences_[r]), sharesFences_[r] = nullptr;
     }
-    glCopyNamedBufferSubData(counters_.id(), sharesRing_.id(), 0, GLintptr(r * sizeof(kernel::PassCounters)),
-                             sizeof(kernel::PassCounters));
+    glCopyNamedBufferSubData(counters_.id(), sharesRing_.id(), 0, GLintptr(r * kernel::kPassCounterBytes),
+                             kernel::kPassCounterBytes);
     glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
     sharesFences_[r] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
     sharesSerial_[r] = ++runs_;
@@ -397,7 +397,8 @@ void ProbeProjectionPass::collectShares() {
         glDeleteSync(fence);
         fence = nullptr;
         if (sharesSerial_[r] < latestSharesSerial_) continue;
-        const kernel::PassCounters& c = static_cast<const kernel::PassCounters*>(sharesMapped_)[r];
+        const kernel::PassCountTotals c = kernel::sumPassCounters(
+            static_cast<const kernel::PassCounters*>(sharesMapped_) + r * kernel::kCounterStripes);
         const double n = sharesPixels_[r];
         latestShares_ = PixelShares{double(c.geometry) / n, double(c.uncovered) / n, double(c.fallbackProbe) / n};
         latestSharesSerial_ = sharesSerial_[r];
@@ -411,23 +412,22 @@ std::optional<ProbeProjectionPass::PixelShares> ProbeProjectionPass::latestPixel
 
 namespace {
 
-kernel::PassCounters readCounters(const gl::Buffer& buffer) {
-    kernel::PassCounters c{};
-    glGetNamedBufferSubData(buffer.id(), 0, sizeof c, &c);
-    return c;
+kernel::PassCountTotals readCounters(const gl::Buffer& buffer) {
+    kernel::PassCounters stripes[kernel::kCounterStripes];
+    glGetNamedBufferSubData(buffer.id(), 0, sizeof stripes, stripes);
+    return kernel::sumPassCounters(stripes);
 }
 
 }  // namespace
 
 double ProbeProjectionPass::fetchesPerPixel() const {
     if (pixels_ == 0.0) return 0.0;
-    const kernel::PassCounters c = readCounters(counters_);
-    return double(kernel::joinWords(c.fetchesLow, c.fetchesHigh)) / pixels_;
+    return double(readCounters(counters_).fetches) / pixels_;
 }
 
 ProbeProjectionPass::PixelShares ProbeProjectionPass::pixelShares() const {
     if (pixels_ == 0.0) return {};
-    const kernel::PassCounters c = readCounters(counters_);
+    const kernel::PassCountTotals c = readCounters(counters_);
     return {double(c.geometry) / pixels_, double(c.uncovered) / pixels_, double(c.fallbackProbe) / pixels_};
 }
 

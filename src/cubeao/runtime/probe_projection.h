@@ -147,7 +147,7 @@ private:
     bool cellsChanged_ = true;
     // latestPixelShares' ring: slot r of sharesRing_ holds the counters of run() number sharesSerial_[r].
     gl::Buffer sharesRing_;
-    const void* sharesMapped_ = nullptr;  // kSharesRing kernel::PassCounters, persistently mapped
+    const void* sharesMapped_ = nullptr;  // kSharesRing × kCounterStripes kernel::PassCounters, persistently mapped
     std::array<GLsync, kSharesRing> sharesFences_{};
     std::array<std::uint64_t, kSharesRing> sharesSerial_{};
     std::array<double, kSharesRing> sharesPixels_{};

@@ -30,14 +30,13 @@ void setSsaoUniforms(GLuint p, const SsaoSettings& settings) {
 SsaoPass::SsaoPass(const SsaoSettings& settings) : settings_(settings) {
     program_ = gl::compileComputeProgram(std::string("ssao/") + ssaoMethodName(settings.method) + ".comp");
     fetchCount_ = gl::Buffer::create();
-    glNamedBufferStorage(fetchCount_.id(), sizeof(kernel::PassCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(fetchCount_.id(), kernel::kPassCounterBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
     setSsaoUniforms(program_.id(), settings);  // fixed for the pass's lifetime
 }
 
 void SsaoPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) {
     const GLuint p = program_.id();
-    const kernel::PassCounters zero{};
-    glNamedBufferSubData(fetchCount_.id(), 0, sizeof zero, &zero);
+    glClearNamedBufferData(fetchCount_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
     glProgramUniform2i(p, glGetUniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
     glProgramUniform1f(p, glGetUniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
     glProgramUniform1ui(p, glGetUniformLocation(p, "frameKey"), frame ^ settings_.seed);
@@ -53,9 +52,9 @@ void SsaoPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::ui
 
 double SsaoPass::fetchesPerPixel() const {
     if (pixels_ == 0.0) return 0.0;
-    kernel::PassCounters c{};
-    glGetNamedBufferSubData(fetchCount_.id(), 0, sizeof c, &c);
-    return double(kernel::joinWords(c.fetchesLow, c.fetchesHigh)) / pixels_;
+    kernel::PassCounters stripes[kernel::kCounterStripes];
+    glGetNamedBufferSubData(fetchCount_.id(), 0, sizeof stripes, stripes);
+    return double(kernel::sumPassCounters(stripes).fetches) / pixels_;
 }
 
 }  // namespace cubeao
