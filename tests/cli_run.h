@@ -41,8 +41,13 @@ inline CliRun runCommand(const std::string& cmd) {
 }
 
 // Runs the binary; `out` is its stdout, followed by its stderr when withStderr.
+// (Appended piecewise: GCC 12's -Warray-bounds misfires on `std::string(...) + " " + args + (c ? a : b)`.)
 inline CliRun runCli(const std::string& args, bool withStderr = false) {
-    return runCommand(std::string(CUBEAO_BINARY) + " " + args + (withStderr ? " 2>&1" : " 2>/dev/null"));
+    std::string cmd = CUBEAO_BINARY;
+    cmd += ' ';
+    cmd += args;
+    cmd += withStderr ? " 2>&1" : " 2>/dev/null";
+    return runCommand(cmd);
 }
 
 inline nlohmann::json lastLine(const std::string& out) {

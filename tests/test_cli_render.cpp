@@ -16,6 +16,7 @@
 
 #include "cli_run.h"
 #include "cubeao/core/camera.h"
+#include "damaged_cache.h"
 #include "cubeao/core/image.h"
 #include "cubeao/metrics/image_io.h"
 #include "cubeao/reference/embree_scene.h"
@@ -109,6 +110,20 @@ TEST_F(RuntimeGl, RenderProbesFromABakedCacheAndRefuseAnotherScenesCache) {
                      (dir.path() / "wrong").string()).code, 1);
     EXPECT_EQ(runCli("render builtin:box-room --method probes --cache " + cache.string() + " --radius 0.3 --out " +
                      (dir.path() / "radius").string()).code, 2) << "the probes carry their own R";
+    // A probe whose bytes fail their checksum: left out, the walk rendered from the other, and said
+    // so on stderr after the summary and in render.json.
+    const fs::path damaged = dir.path() / "damaged.cubeao";
+    const std::vector<std::size_t> first{0};
+    writeWithDamagedAo(cache, first, damaged);
+    const std::string damagedArgs = "render builtin:box-room --cache " + damaged.string() +
+                                    " --frames 0:2 --width 48 --height 27 --json --out " + (dir.path() / "damaged").string();
+    const CliRun d = runCli(damagedArgs, true);
+    ASSERT_EQ(d.code, 0) << d.out;
+    EXPECT_NE(d.out.find("render: 1 damaged probe of 2 left out"), std::string::npos) << d.out;
+    const auto dj = lastLine(d.out);
+    EXPECT_EQ(dj["residency"]["damaged"].get<int>(), 1);
+    EXPECT_EQ(dj["residency"]["resident"].get<int>(), 1);
+    EXPECT_EQ(j["residency"]["damaged"].get<int>(), 0) << "the sound cache";
 }
 
 // Issue 6: "box room, one probe: render vs reference within a stated MAE". One traced probe in the

@@ -202,6 +202,7 @@ TEST_F(ViewerWindow, LivePlacementAdoptsACacheBakedWithItsOwnSettings) {
     const nlohmann::json st = stats();
     ASSERT_TRUE(st.contains("live")) << st.dump(2);
     EXPECT_EQ(st["probes"].get<std::size_t>(), probes.size()) << st.dump(2);
+    EXPECT_EQ(st["damaged"].get<std::size_t>(), 0u);
     const CacheReader back(saved);
     EXPECT_EQ(back.probeCount(), probes.size());
     EXPECT_TRUE(back.params() == opened.params()) << "saved with the opened cache's parameters";
@@ -215,6 +216,8 @@ TEST_F(ViewerWindow, LivePlacementAdoptsACacheBakedWithItsOwnSettings) {
                                     "size 96 54\npath 0\nframes 2\nsave " + saved.string() + "\nquit\n");
     EXPECT_NE(damaged.out.find("probe 1: checksum mismatch"), std::string::npos) << damaged.out;
     EXPECT_EQ(stats()["probes"].get<std::size_t>(), 1u);
+    EXPECT_EQ(stats()["damaged"].get<std::size_t>(), 1u) << "counted once, whichever of the pass and live placement "
+                                                            "found it (the panel shows this count)";
     EXPECT_EQ(CacheReader(saved).probeCount(), 1u);
 }
 

@@ -172,6 +172,9 @@ private:
     // Live placement: the placement scene is built on first use (Embree, free space: seconds).
     std::unique_ptr<placement::PlacementScene> placementScene_;
     std::unique_ptr<placement::LivePlacement> live_;
+    // Probes of the opened cache that live placement found damaged when adopting them, and left out
+    // (the pass counts the ones it finds itself: ResidencyStats::damaged).
+    std::size_t liveDamaged_ = 0;
     bool liveOn_ = false;
 
     FlyCamera camera_;
@@ -390,6 +393,7 @@ void Viewer::startLive() {
                 } catch (const Error& e) {
                     spdlog::warn("cubeao-view: {}; left out", e.what());
                     pass->removeProbe(id);
+                    ++liveDamaged_;
                     continue;
                 }
                 ids.push_back(id);
@@ -740,6 +744,7 @@ nlohmann::json Viewer::summary() const {
     if (ProbeProjectionPass* pass = probes()) {
         j["probes"] = pass->grid().liveProbes();
         j["resident"] = pass->residency().stats().resident;
+        j["damaged"] = pass->residency().stats().damaged + liveDamaged_;
         j["gpu_bytes"] = pass->gpuBytes();
         j["pixels"] = {{"uncovered", shares_.uncovered}, {"fallback_probe", shares_.fallbackProbe}};
     }
@@ -869,6 +874,9 @@ void Viewer::drawPanel() {
         const double probesShare = std::max(0.0, shares_.geometry - shares_.uncovered - shares_.fallbackProbe);
         ImGui::Text("pixels  probes %.1f %% · other probe %.1f %% · GTAO %.1f %%", 100.0 * probesShare,
                     100.0 * shares_.fallbackProbe, 100.0 * shares_.uncovered);
+        if (const std::size_t damaged = r.damaged + liveDamaged_; damaged > 0)
+            ImGui::TextColored(ImVec4(1.0f, 0.6f, 0.2f, 1.0f), "%zu damaged probe%s left out (checksum; see the log)",
+                               damaged, damaged == 1 ? "" : "s");
     }
 
     // Live placement.

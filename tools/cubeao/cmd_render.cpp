@@ -216,6 +216,10 @@ void run(const RenderArgs& a) {
                 renderer.method().name(), range.size(), a.out.c_str(), medians["gbuffer"].get<double>(),
                 medians["ao"].get<double>(), medians["blur"].get<double>(), medians["composite"].get<double>(),
                 medians["readback"].get<double>(), wall ? "wall clock" : "GL timer queries", fetchesPerPixel);
+    if (const std::size_t damaged = projection ? projection->residency().stats().damaged : 0; damaged > 0)
+        spdlog::warn("render: {} damaged probe{} of {} left out: their pixels took the other probes (`cubeao info {} "
+                     "--verify` lists the damage)",
+                     damaged, damaged == 1 ? "" : "s", cache->probeCount(), a.cache);
     if (a.json) {
         std::fflush(stdout);  // the summary (stdio) before the JSON line (iostream)
         printJson(result);
