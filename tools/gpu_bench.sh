@@ -56,7 +56,9 @@ run() {
         export LD_LIBRARY_PATH=$PWD/.gpubench/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
     fi
     export CUBEAO_SHADER_DIR=$PWD/shaders CUBEAO_EGL_PLATFORM=${CUBEAO_EGL_PLATFORM:-device}
-    { nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv 2>&1 || true; uname -a; } > "$out/machine.txt"
+    { nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv 2>&1 || true; uname -a
+      ldd --version 2>&1 | head -1; } > "$out/machine.txt"
+    cat "$out/machine.txt"
 
     # name | arguments. The first is the target; the rest place it: the 10,000-probe budget
     # on a GPU, the measuring renderer's per-pass stalls against the frame loop.
