@@ -479,7 +479,7 @@ void run(const RenderBenchArgs& a) {
         const SweepProbes probes =
             a.synthetic ? syntheticSweepProbes(a, scene, path, most) : bakeSweepProbes(a, scene, path, most);
         sweepCaches = {{"how", a.synthetic
-                                   ? "synthetic payloads (random BC5 AO blocks, confidence >= 0.5, every distance "
+                                   ? "synthetic payloads (random BC5 AO blocks, confidence 1 as a traced bake's, every distance "
                                      "beyond the scene's diagonal: each candidate sees every surface facing it; "
                                      "8 payloads shared round-robin) at probes scattered within 10 R of the camera "
                                      "path, short of surfaces; each count = the first N of one list"

@@ -19,8 +19,9 @@ std::vector<ProbeRecord> syntheticPayloads(const CacheParams& params, float maxD
         p.aoConfidence.resize(aoSectionSize(params));
         for (std::size_t b = 0; b < p.aoConfidence.size(); b += 16) {
             std::uint8_t* block = p.aoConfidence.data() + b;
-            for (int i = 0; i < 16; ++i) block[i] = std::uint8_t(rng());
-            block[8] = 255, block[9] = std::uint8_t(128 + rng() % 127);  // confidence endpoints
+            for (int i = 0; i < 8; ++i) block[i] = std::uint8_t(rng());  // AO: random endpoints and codes
+            block[8] = 255, block[9] = 255;                              // confidence: 1, as a traced bake's
+            for (int i = 10; i < 16; ++i) block[i] = 0;                  // every code 0: endpoint 0
         }
         p.depth.resize(depthSectionSize(params));
         for (std::size_t t = 0; t + 1 < p.depth.size(); t += 2) {  // little-endian r16unorm in [60000, 65535]

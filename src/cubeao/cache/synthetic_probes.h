@@ -4,7 +4,7 @@
 // as a bake's would: every distance texel lies beyond `maxDistance`·60000/65535 (so with maxDistance
 // past the scene's diagonal every candidate passes the depth test wherever its surface faces it, and
 // the best-two blend always runs), AO blocks with random endpoints and codes (varied texels),
-// confidence in [0.5, 1] (green endpoints 255 > g1 ≥ 128: the 8-level mode, no code reads 0).
+// confidence 1 in every texel, as a traced bake writes it (the caches say "traced").
 // The AO values mean nothing: these caches are for timings, never for quality figures.
 #pragma once
 
