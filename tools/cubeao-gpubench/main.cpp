@@ -24,12 +24,10 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
 #include <sys/resource.h>
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -77,22 +75,6 @@ void checkUsage(const Args& a) {
         throw UsageError("--clock: auto, pipeline or wall, not '" + a.clock + "'");
 }
 
-// Points around the walk: a uniform point of the eye polyline, a uniform direction, a uniform
-// distance up to `spread`. Deterministic.
-std::vector<glm::vec3> probePositions(const CameraPath& path, float spread, std::size_t count) {
-    std::mt19937 rng(1);
-    const auto uniform = [&] { return float(rng() >> 8) * (1.0f / 16777216.0f); };
-    std::vector<glm::vec3> out;
-    while (out.size() < count) {
-        const float u = uniform() * float(path.frames.size() - 1);
-        const std::size_t i = std::size_t(u), j = std::min(i + 1, path.frames.size() - 1);
-        const glm::vec3 eye = glm::mix(path.frames[i].eye, path.frames[j].eye, u - float(i));
-        const float z = 1.0f - 2.0f * uniform(), phi = 6.2831853f * uniform(), r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-        out.push_back(eye + glm::vec3(r * std::cos(phi), z, r * std::sin(phi)) * (uniform() * spread));
-    }
-    return out;
-}
-
 // The bake parameters a traced bake at `res` would record (cubeao_offline's cacheParamsFor, which this
 // binary does not link): only the sizes and formats matter to the run time.
 CacheParams syntheticParams(const Scene& scene, int res) {
@@ -107,18 +89,6 @@ CacheParams syntheticParams(const Scene& scene, int res) {
     p.origin = glm::vec3(scene.origin);
     return p;
 }
-
-struct Temp {
-    fs::path dir;
-    Temp() {
-        dir = fs::temp_directory_path() / ("cubeao-gpubench-" + std::to_string(::getpid()));
-        fs::create_directories(dir);
-    }
-    ~Temp() {
-        std::error_code ignored;
-        fs::remove_all(dir, ignored);
-    }
-};
 
 struct Measured {
     std::vector<PassTimings> timings;
@@ -200,13 +170,16 @@ int run(const Args& a) {
                 context->version().c_str(),
                 pipelineClock ? "frame pipeline, GL timer queries" : "measuring renderer, wall clock around glFinish");
 
-    const Temp temp;
-    const fs::path file = temp.dir / "synthetic.cubeao";
+    const cli::ScratchDir temp("cubeao-gpubench");
+    const fs::path file = temp.path / "synthetic.cubeao";
     const CacheParams params = syntheticParams(scene, a.res);
     const float radius = params.radius;
     {
         const auto start = std::chrono::steady_clock::now();
-        const std::vector<glm::vec3> positions = probePositions(path, 3.0f * radius, a.probes);
+        // Within 3 R of the walk, with no ray test keeping them out of walls (the timing does not need one).
+        const float spread = 3.0f * radius;
+        const std::vector<glm::vec3> positions =
+            cli::scatterAroundWalk(path, a.probes, [spread](const glm::vec3&, const glm::vec3&) { return spread; });
         const std::vector<ProbeRecord> payloads = syntheticPayloads(params, 1.1f * scene.bounds.diagonal(), 8);
         writeCache(file, params, syntheticProbeViews(positions, payloads));
         spdlog::info("cubeao-gpubench: {} synthetic probes at {}² written in {:.0f} ms ({:.0f} MB)", a.probes, a.res,

@@ -31,9 +31,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <random>
 #include <set>
-#include <unistd.h>
 
 #include <glm/geometric.hpp>
 #include <spdlog/spdlog.h>
@@ -103,26 +101,15 @@ std::vector<std::size_t> benchFrames(const CameraPath& path, int count) {
     return out;
 }
 
-// Probes scattered through the space the walk sees: a random point of the eye polyline, then a
-// random direction and a random distance up to `maxOffset`, stopped `clearance` short of the first
-// surface that way, so a probe is never inside geometry. Deterministic (fixed seed).
+// Probes scattered through the space the walk sees (scatterAroundWalk): up to `maxOffset` from the
+// eye polyline, stopped `clearance` short of the first surface that way, so a probe is never inside
+// geometry.
 std::vector<glm::vec3> sweepPositions(const EmbreeScene& rt, const CameraPath& path, float maxOffset, float clearance,
                                       std::size_t count) {
-    std::mt19937 rng(1);
-    const auto uniform = [&] { return float(rng() >> 8) * (1.0f / 16777216.0f); };
-    std::vector<glm::vec3> out;
-    while (out.size() < count) {
-        const float u = uniform() * float(path.frames.size() - 1);
-        const std::size_t i = std::size_t(u);
-        const std::size_t j = std::min(i + 1, path.frames.size() - 1);
-        const glm::vec3 eye = glm::mix(path.frames[i].eye, path.frames[j].eye, u - float(i));
-        const float z = 1.0f - 2.0f * uniform(), phi = 6.2831853f * uniform(), r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-        const glm::vec3 dir(r * std::cos(phi), z, r * std::sin(phi));
+    return scatterAroundWalk(path, count, [&](const glm::vec3& eye, const glm::vec3& dir) {
         const RayHit hit = rt.intersect(eye, dir, 0.0f, maxOffset + clearance);
-        const float reach = (hit.hit ? hit.t : maxOffset + clearance) - clearance;
-        out.push_back(eye + dir * (uniform() * std::max(0.0f, reach)));
-    }
-    return out;
+        return std::max(0.0f, (hit.hit ? hit.t : maxOffset + clearance) - clearance);
+    });
 }
 
 // The sweep's probes: baked (one record per probe), or synthetic (positions, and a handful of
@@ -437,15 +424,6 @@ nlohmann::json summary(const nlohmann::json& methods, const nlohmann::json& swee
 }
 
 // Removes the sweep's cache directory however the bench ends.
-struct TempDir {
-    fs::path path = fs::temp_directory_path() / ("cubeao-bench-render-" + std::to_string(::getpid()));
-    TempDir() { fs::create_directories(path); }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path, ignored);
-    }
-};
-
 void run(const RenderBenchArgs& a) {
     checkUsage(a);
     const Scene scene = loadScene(a.scene);
@@ -466,8 +444,8 @@ void run(const RenderBenchArgs& a) {
     // shared machine falls on all of them rather than on one.
     // The caches' directory outlives every Timed (declared first, destroyed last): the passes stream
     // from the files until the end.
-    std::optional<TempDir> temp;
-    if (a.keepCaches.empty()) temp.emplace();
+    std::optional<ScratchDir> temp;
+    if (a.keepCaches.empty()) temp.emplace("cubeao-bench-render");
     const fs::path cacheDir = temp ? temp->path : fs::path(a.keepCaches);
     if (!temp) fs::create_directories(cacheDir);
     std::vector<std::unique_ptr<Timed>> timed;

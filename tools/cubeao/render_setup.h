@@ -3,9 +3,18 @@
 // and the per-pass medians of a run.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
 #include <memory>
+#include <random>
 #include <string>
+#include <system_error>
 #include <vector>
+
+#include <unistd.h>
+
+#include <glm/common.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -80,6 +89,41 @@ inline CompositeSettings compositeFor(const Scene& scene, float alpha) {
     c.lightDirection = defaultLightDirection(scene.up);
     return c;
 }
+
+// Points scattered around a walk, the benchmarks' probe positions: a uniform point of the eye
+// polyline, a uniform direction, a uniform distance up to reach(eye, direction) (Embree's free
+// distance for `bench render`, a fixed spread for cubeao-gpubench). Deterministic (fixed seed).
+template <class Reach>
+std::vector<glm::vec3> scatterAroundWalk(const CameraPath& path, std::size_t count, Reach reach) {
+    std::mt19937 rng(1);
+    const auto uniform = [&] { return float(rng() >> 8) * (1.0f / 16777216.0f); };
+    std::vector<glm::vec3> out;
+    while (out.size() < count) {
+        const float u = uniform() * float(path.frames.size() - 1);
+        const std::size_t i = std::size_t(u), j = std::min(i + 1, path.frames.size() - 1);
+        const glm::vec3 eye = glm::mix(path.frames[i].eye, path.frames[j].eye, u - float(i));
+        const float z = 1.0f - 2.0f * uniform(), phi = 6.2831853f * uniform(), r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+        const glm::vec3 dir(r * std::cos(phi), z, r * std::sin(phi));
+        const float far = reach(eye, dir);
+        out.push_back(eye + dir * (uniform() * far));
+    }
+    return out;
+}
+
+// A scratch directory named PREFIX-PID under the temporary directory, removed with what it holds.
+struct ScratchDir {
+    std::filesystem::path path;
+    explicit ScratchDir(const std::string& prefix)
+        : path(std::filesystem::temp_directory_path() / (prefix + "-" + std::to_string(::getpid()))) {
+        std::filesystem::create_directories(path);
+    }
+    ScratchDir(const ScratchDir&) = delete;
+    ScratchDir& operator=(const ScratchDir&) = delete;
+    ~ScratchDir() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path, ignored);
+    }
+};
 
 // Median ms per pass over a run's frames (each pass's own median; ao_blur and gpu_total are the
 // medians of the per-frame sums): what `timings_ms` reports.

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 
+#include "common/runtime_layout.h"
 #include "cubeao/gl/gl.h"
 #include "cubeao/runtime/camera_gbuffer.h"
 #include "cubeao/runtime/camera_view.h"
@@ -25,6 +26,14 @@ public:
     // wait for the run to finish: call it after the frame, not inside it).
     virtual double fetchesPerPixel() const = 0;
 };
+
+// The counters a pass keeps in `buffer` (kernel::kPassCounterBytes: kCounterStripes PassCounters,
+// runtime_layout.h), summed. A read-back: waits for the pass.
+inline kernel::PassCountTotals readPassCounters(GLuint buffer) {
+    kernel::PassCounters stripes[kernel::kCounterStripes];
+    glGetNamedBufferSubData(buffer, 0, sizeof stripes, stripes);
+    return kernel::sumPassCounters(stripes);
+}
 
 // What a method without an answer for some pixels calls to fill them (the probe projection, for
 // pixels no resident probe sees: DESIGN.md §4 "Run time that grows"). The runtime library defines

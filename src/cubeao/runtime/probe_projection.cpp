@@ -410,24 +410,14 @@ std::optional<ProbeProjectionPass::PixelShares> ProbeProjectionPass::latestPixel
     return latestShares_;
 }
 
-namespace {
-
-kernel::PassCountTotals readCounters(const gl::Buffer& buffer) {
-    kernel::PassCounters stripes[kernel::kCounterStripes];
-    glGetNamedBufferSubData(buffer.id(), 0, sizeof stripes, stripes);
-    return kernel::sumPassCounters(stripes);
-}
-
-}  // namespace
-
 double ProbeProjectionPass::fetchesPerPixel() const {
     if (pixels_ == 0.0) return 0.0;
-    return double(readCounters(counters_).fetches) / pixels_;
+    return double(readPassCounters(counters_.id()).fetches) / pixels_;
 }
 
 ProbeProjectionPass::PixelShares ProbeProjectionPass::pixelShares() const {
     if (pixels_ == 0.0) return {};
-    const kernel::PassCountTotals c = readCounters(counters_);
+    const kernel::PassCountTotals c = readPassCounters(counters_.id());
     return {double(c.geometry) / pixels_, double(c.uncovered) / pixels_, double(c.fallbackProbe) / pixels_};
 }
 

@@ -52,9 +52,7 @@ void SsaoPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::ui
 
 double SsaoPass::fetchesPerPixel() const {
     if (pixels_ == 0.0) return 0.0;
-    kernel::PassCounters stripes[kernel::kCounterStripes];
-    glGetNamedBufferSubData(fetchCount_.id(), 0, sizeof stripes, stripes);
-    return double(kernel::sumPassCounters(stripes).fetches) / pixels_;
+    return double(readPassCounters(fetchCount_.id()).fetches) / pixels_;
 }
 
 }  // namespace cubeao
