@@ -57,7 +57,7 @@ run() {
     fi
     export CUBEAO_SHADER_DIR=$PWD/shaders CUBEAO_EGL_PLATFORM=${CUBEAO_EGL_PLATFORM:-device}
     { nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv 2>&1 || true; uname -a
-      ldd --version 2>&1 | head -1; } > "$out/machine.txt"
+      ldd --version 2>&1 | sed -n 1p; } > "$out/machine.txt"  # sed, not head: no SIGPIPE under pipefail
     cat "$out/machine.txt"
 
     # name | arguments. The first is the target; the rest place it: the 10,000-probe budget

@@ -21,6 +21,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -137,14 +138,28 @@ Measured measure(const Args& a, const Scene& scene, const CameraPath& path, std:
         if (t->serial >= std::uint64_t(a.warmup)) m.timings.push_back(t->passes);
         lastSerial = t->serial, any = true;
     };
+    // A window's swap chain lets the CPU run at most a few frames ahead of the GPU; without that the
+    // loop issues every frame in a few milliseconds, the timer ring (kTimingFrames) overflows and all
+    // but the last frame's timings are dropped (first GPU run, 2026-12-04: 1 of 300 timed). A fence
+    // per frame, waited for kFramesInFlight frames later, is that throttle; the wait is outside the
+    // issue time measured.
+    constexpr std::size_t kFramesInFlight = 2;
+    std::deque<GLsync> inFlight;
     for (int k = 0; k < a.warmup + a.frames; ++k) {
         const std::size_t f = frameOf(k);
+        if (inFlight.size() >= kFramesInFlight) {
+            glClientWaitSync(inFlight.front(), GL_SYNC_FLUSH_COMMANDS_BIT, GLuint64(10'000'000'000));
+            glDeleteSync(inFlight.front());
+            inFlight.pop_front();
+        }
+        collect();
         const auto start = std::chrono::steady_clock::now();
         pipeline.render(cli::frameView(path, f, a.width, a.height), std::uint32_t(f));
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         if (k >= a.warmup) m.issueMs.push_back(ms);
-        collect();
+        inFlight.push_back(glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0));
     }
+    for (GLsync s : inFlight) glDeleteSync(s);
     glFinish();
     collect();
     sample(pipeline.method());
