@@ -155,6 +155,11 @@ struct ProbeResidency::Staging {
     gl::Buffer upload;
     std::uint8_t* uploadBytes = nullptr;
     std::array<GLsync, kStagingRegions> uploadFences{};
+    // The projection's atomics go into `demand`, in GPU memory; endFrame copies it into the mapped
+    // ring. Atomics straight into the persistently mapped ring cost 14 ms a 1080p frame at 2,000
+    // probes and 130 ms at 20 on an H200 (host memory over PCIe, contended per probe), against
+    // 0.2–0.3 ms for the whole pass without them (docs/BENCHMARKS.md, "The first GPU figures").
+    gl::Buffer demand;
     gl::Buffer feedback;
     const std::uint32_t* feedbackWords = nullptr;
     std::size_t words = 0, stride = 0;  // words per frame; bytes between frames (binding-offset aligned)
@@ -180,8 +185,10 @@ ProbeResidency::ProbeResidency(const ProbeSource& source, std::size_t fixedBytes
     uploadBound_ = std::max(perProbe, settings.uploadBytesPerFrame ? settings.uploadBytesPerFrame : kDefaultUploadBytes);
     const std::size_t n = std::max<std::size_t>(source.size(), 1);
     const std::size_t stagingBytes = kStagingRegions * uploadBound_;
-    // (feedback: each ring entry may be padded to the binding alignment, at most 256 bytes)
-    const std::size_t tableBytes = n * sizeof(kernel::ProbeEntry) + kFeedbackRing * (feedbackWords(n) * 4 + 256);
+    // (feedback: the pass's demand counts, and a mapped ring of them, each entry padded to the binding
+    // alignment, at most 256 bytes)
+    const std::size_t tableBytes =
+        n * sizeof(kernel::ProbeEntry) + feedbackWords(n) * 4 + kFeedbackRing * (feedbackWords(n) * 4 + 256);
     const std::size_t fixed = fixedBytes + stagingBytes + tableBytes;
     std::size_t want = std::max(n, minSlots);
     unlimited_ = settings.gpuBudgetBytes == 0;
@@ -270,6 +277,8 @@ void ProbeResidency::ensureCapacity(std::size_t probes) {
     staging_->feedbackWords =
         static_cast<const std::uint32_t*>(glMapNamedBufferRange(staging_->feedback.id(), 0, feedbackBytes, readFlags));
     if (!staging_->feedbackWords) throw Error("probe residency: cannot map the feedback buffer");
+    staging_->demand = gl::Buffer::create();
+    glNamedBufferStorage(staging_->demand.id(), GLsizeiptr(staging_->words * 4), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
 bool ProbeResidency::isResident(std::uint32_t id) const { return id < slotOf_.size() && slotOf_[id] != kNoSlot; }
@@ -291,7 +300,7 @@ void ProbeResidency::syncProbes(const ProbeSource& source) {
     if (unlimited_ && live > slots_ && table_.id() != 0) growAtlas(live, source);
     ensureCapacity(source.size());
     stats_.gpuBytes = atlasBytes_ + kStagingRegions * uploadBound_ + capacity_ * sizeof(kernel::ProbeEntry) +
-                      staging_->feedbackBytes;  // what allocateAtlas and ensureCapacity hold now
+                      staging_->feedbackBytes + staging_->words * 4;  // what allocateAtlas and ensureCapacity hold now
     slotOf_.resize(source.size(), kNoSlot);
     lastUsed_.resize(source.size(), -1);
     demand_.resize(source.size(), 0u);
@@ -479,7 +488,8 @@ std::size_t glTextureBytes(GLuint texture) {
 
 std::size_t ProbeResidency::allocatedGpuBytes() const {
     return glTextureBytes(ao_.id()) + glTextureBytes(distance_.id()) + glBufferBytes(table_.id()) +
-           glBufferBytes(staging_->upload.id()) + glBufferBytes(staging_->feedback.id());
+           glBufferBytes(staging_->upload.id()) + glBufferBytes(staging_->feedback.id()) +
+           glBufferBytes(staging_->demand.id());
 }
 
 void ProbeResidency::bind() {
@@ -489,10 +499,8 @@ void ProbeResidency::bind() {
         readFeedback();
         if (fence) glDeleteSync(fence), fence = nullptr;
     }
-    const GLintptr offset = GLintptr(r * staging_->stride);
-    const GLsizeiptr size = GLsizeiptr(staging_->words * 4);
-    glClearNamedBufferSubData(staging_->feedback.id(), GL_R32UI, offset, size, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kernel::kProbeFeedbackBuffer, staging_->feedback.id(), offset, size);
+    glClearNamedBufferData(staging_->demand.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kProbeFeedbackBuffer, staging_->demand.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kProbeTableBuffer, table_.id());
     glBindTextureUnit(kernel::kProbeAoUnit, ao_.id());
     glBindTextureUnit(kernel::kProbeDistanceUnit, distance_.id());
@@ -500,6 +508,10 @@ void ProbeResidency::bind() {
 
 void ProbeResidency::endFrame() {
     const std::size_t r = std::size_t(frame_ % std::int64_t(kFeedbackRing));
+    // The pass's atomics into its ring slot, then visible to the mapping once the fence passes.
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glCopyNamedBufferSubData(staging_->demand.id(), staging_->feedback.id(), 0, GLintptr(r * staging_->stride),
+                             GLsizeiptr(staging_->words * 4));
     glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
     staging_->fences[r] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
     staging_->frames[r] = frame_;
