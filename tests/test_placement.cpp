@@ -15,6 +15,7 @@
 
 #include "cubeao/bake/probe_set.h"
 #include "cubeao/core/camera.h"
+#include "cubeao/core/error.h"
 #include "cubeao/placement/coverage.h"
 #include "cubeao/placement/coverage_feedback.h"
 #include "cubeao/placement/free_space.h"
@@ -140,12 +141,22 @@ TEST(Placement, TwoRoomsVotingBeatsGrid) {
     ASSERT_LT(reach, door.x);
     ASSERT_LT(reach, kBx1 - door.x);
 
-    const Placement voting = placeVoting(ps);
+    // The grid searches the coarsest lattice that reaches the coverage target; voting (issue 31) then
+    // gets exactly as many probes and must predict less error with them, and cover at least as much.
     const Placement grid = placeGrid(ps);
-    std::printf("two rooms: reach %.2f, voting %zu probes coverage %.4f; grid %zu probes coverage %.4f\n", reach,
-                voting.probes.size(), voting.coverage, grid.probes.size(), grid.coverage);
-
+    ASSERT_GE(grid.probes.size(), 2u);
+    PlaceSettings equal = s;
+    equal.budget = int(grid.probes.size());
+    const PlacementScene ps2(scene, equal, nullptr);
+    const Placement voting = placeVoting(ps2);
+    const Placement gridAgain = evaluate(ps2, positionsOf(grid), "grid");
+    std::printf("two rooms: reach %.2f, grid %zu probes coverage %.4f predicted MAE %.4f; voting %zu probes "
+                "coverage %.4f predicted MAE %.4f\n", reach, grid.probes.size(), gridAgain.coverage,
+                gridAgain.predictedMae, voting.probes.size(), voting.coverage, voting.predictedMae);
+    EXPECT_EQ(voting.probes.size(), grid.probes.size());
+    EXPECT_LT(voting.predictedMae, gridAgain.predictedMae);
     EXPECT_GE(voting.coverage, s.target);
+
     int inA = 0, inB = 0;
     for (const PlacedProbe& p : voting.probes) {
         inA += p.position.x < kAx1 ? 1 : 0;
@@ -153,23 +164,16 @@ TEST(Placement, TwoRoomsVotingBeatsGrid) {
     }
     EXPECT_GE(inA, 1);
     EXPECT_GE(inB, 1);
-    // Both rooms' relevant samples are covered to the target, each on its own.
+    // Both rooms' relevant samples are covered, each on its own: neither room is left behind.
     auto inRoom = [&](float x0, float x1) {
         return [=](const SurfaceSample& smp) { return smp.position.x >= x0 && smp.position.x <= x1; };
     };
-    const auto [areaA, coveredA] = coveredArea(ps, positionsOf(voting), inRoom(0.0f, kAx1));
-    const auto [areaB, coveredB] = coveredArea(ps, positionsOf(voting), inRoom(kBx0, kBx1));
+    const auto [areaA, coveredA] = coveredArea(ps2, positionsOf(voting), inRoom(0.0f, kAx1));
+    const auto [areaB, coveredB] = coveredArea(ps2, positionsOf(voting), inRoom(kBx0, kBx1));
     ASSERT_GT(areaA, 0.0);
     ASSERT_GT(areaB, 0.0);
-    // The target is a total (the greedy stops when the sum reaches it), so one room may fall a little
-    // short of it: seed 7 gives 0.951 in all with room B at 0.949. Neither room is left behind, though.
     EXPECT_GE(coveredA / areaA, 0.9) << "room A";
     EXPECT_GE(coveredB / areaB, 0.9) << "room B";
-
-    if (grid.coverage >= s.target)
-        EXPECT_GT(grid.probes.size(), voting.probes.size());
-    else
-        EXPECT_GE(voting.coverage, s.target);  // voting reached what the grid did not
 }
 
 // ---- An L-shaped corridor -----------------------------------------------------------------------
@@ -272,10 +276,15 @@ CameraPath alcoveWalk() {
     return path;
 }
 
-TEST(Placement, AlcoveSeenOnceVotingCoversPathDoesNot) {
+TEST(Placement, AlcoveSeenOnceVotingServesItPathCannot) {
     const Scene scene = alcoveRoom();
     const CameraPath path = alcoveWalk();
-    const PlaceSettings s = coarse(scene, 0.95);
+    PlaceSettings s = coarse(scene, 0.95);
+    // The alcove fills little of the walk's images (one frame in nine looks in, its back wall 6.5 away,
+    // 0.3 % of the pixels): by the error people see (issue 31) the first probes belong in the room, and
+    // the automatic stop spends none on the back wall. Given probes enough, voting reaches into the
+    // alcove, which no probe on the walk's line can.
+    s.budget = 24;
     const PlacementScene ps(scene, s, &path);
     // Physically true by construction: every path probe stands at z = 1.5, beyond reach of the back wall.
     ASSERT_LT(ps.criterion().maxDistance(), kAlcBack - 1.5f);
@@ -284,11 +293,12 @@ TEST(Placement, AlcoveSeenOnceVotingCoversPathDoesNot) {
     std::vector<glm::vec3> along;
     for (const ProbeSpec& p : probesAlongPath(path, voting.probes.size())) along.push_back(p.position);
     const Placement walk = evaluate(ps, along, "path");
-    std::printf("alcove: reach %.2f, voting %zu probes coverage %.4f; path %zu probes coverage %.4f\n",
-                ps.criterion().maxDistance(), voting.probes.size(), voting.coverage, walk.probes.size(),
-                walk.coverage);
+    std::printf("alcove: reach %.2f, voting %zu probes coverage %.4f predicted %.4f; path %zu probes coverage %.4f "
+                "predicted %.4f\n", ps.criterion().maxDistance(), voting.probes.size(), voting.coverage,
+                voting.predictedMae, walk.probes.size(), walk.coverage, walk.predictedMae);
 
-    EXPECT_GE(voting.coverage, s.target);
+    EXPECT_EQ(voting.probes.size(), 24u);
+    EXPECT_LT(voting.predictedMae, walk.predictedMae);
     EXPECT_LT(walk.coverage, voting.coverage);
     auto backWall = [](const SurfaceSample& smp) {
         return smp.position.z > kAlcBack - 1e-3f && smp.normal.z < -0.5f;
@@ -301,10 +311,10 @@ TEST(Placement, AlcoveSeenOnceVotingCoversPathDoesNot) {
     std::printf("alcove: back wall relevant %.3f, voting %.3f, path %.3f; alcove relevant %.3f, voting %.3f, "
                 "path %.3f\n", backArea, backByVoting, backByPath, alcoveArea, alcoveByVoting, alcoveByPath);
     ASSERT_GT(backArea, 0.0) << "the frame looking in must make the back wall relevant";
-    EXPECT_GE(backByVoting / backArea, s.target);
+    EXPECT_GT(backByVoting, 0.0);
     EXPECT_EQ(backByPath, 0.0);
-    EXPECT_GE(alcoveByVoting / alcoveArea, s.target);
-    EXPECT_LT(alcoveByPath, alcoveByVoting);
+    EXPECT_GE(alcoveByVoting / alcoveArea, 0.25);
+    EXPECT_EQ(alcoveByPath, 0.0);
 }
 
 // ---- A closed box in a room ---------------------------------------------------------------------
@@ -414,6 +424,179 @@ TEST(Placement, CoverageFeedbackReachesTargetOnBoxRoom) {
                 r.probes.size(), r.coverage);
     ASSERT_FALSE(r.probes.empty());
     EXPECT_GE(r.coverage, s.target);
+}
+
+// ---- Free space whichever way faces point; the expected-error objective (issue 31) ---------------
+
+// A copy of `scene` with the triangles `flip` picks wound the other way, every triangle on vertices of
+// its own whose normal follows its (new) winding: what a CAD export with reversed faces and no
+// normals imports as.
+Scene withFlipped(const Scene& scene, auto flip) {
+    Scene out;
+    out.source = scene.source + " (flipped)";
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
+        glm::vec3 p[3];
+        for (int k = 0; k < 3; ++k) p[k] = scene.positions[scene.indices[3 * t + std::size_t(k)]];
+        if (flip(t)) std::swap(p[1], p[2]);
+        const glm::vec3 n = glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0]));
+        for (int k = 0; k < 3; ++k) {
+            out.indices.push_back(std::uint32_t(out.positions.size()));
+            out.positions.push_back(p[k]);
+            out.normals.push_back(n);
+        }
+    }
+    finalizeScene(out);
+    return out;
+}
+
+// A walk from room A through the door into room B and back, eyes at 1.6 m looking ahead.
+CameraPath twoRoomsWalk() {
+    CameraPath path;
+    path.width = 64;
+    path.height = 36;
+    path.fovYDeg = 60.0f;
+    const float z = 0.5f * (kDoorZ0 + kDoorZ1);
+    for (int i = 0; i < 24; ++i) {
+        const float u = float(i) / 23.0f, x = 0.6f + u * (kBx1 - 1.2f);
+        const glm::vec3 eye(x, 1.6f, z + 0.8f * std::sin(6.2831853f * u));
+        path.frames.push_back({eye, eye + glm::vec3(1.0f, -0.1f, i % 2 ? 0.4f : -0.4f)});
+    }
+    return path;
+}
+
+// Settings at the bake's real scale for the error model: a 128² bake, texels judged against R.
+PlaceSettings errorSettings(const Scene& scene) {
+    PlaceSettings s = coarse(scene, 0.95);
+    s.res = 128;
+    s.texelsPerRadius = 16.0f;
+    s.radius = 0.5f;
+    return s;
+}
+
+TEST(PlacementError, ModelGrowsWithTheTexelAndStopsAtTheFallback) {
+    const ErrorModel m;
+    const float r = 0.5f;
+    EXPECT_FLOAT_EQ(m.expected(INFINITY, r), m.fallback);
+    EXPECT_NEAR(m.expected(0.0f, r), m.floor, 1e-7f);
+    float last = 0.0f;
+    for (const float side : {0.0f, 0.001f, 0.01f, 0.05f, 0.2f, 1.0f, 10.0f}) {
+        const float e = m.expected(side * side, r);
+        EXPECT_GE(e, last) << side;
+        EXPECT_LE(e, m.fallback) << side;
+        last = e;
+    }
+    EXPECT_FLOAT_EQ(last, m.fallback);  // a texel 20 R wide is no better than screen space
+    // usefulTexel is where the line meets the fallback.
+    const float side = m.usefulTexel(r);
+    EXPECT_NEAR(m.expected(side * side, r), m.fallback, 1e-5f);
+}
+
+TEST(PlacementError, GainIsWhatThePredictedErrorFalls) {
+    const Scene scene = twoRooms();
+    const CameraPath walk = twoRoomsWalk();
+    const PlacementScene ps(scene, errorSettings(scene), &walk);
+    ExpectedError e(ps);
+    EXPECT_NEAR(e.mae(), ps.errorModel().fallback, 1e-6);  // nothing served: screen space everywhere
+    double last = e.mae();
+    for (const glm::vec3& p : {walk.frames[3].eye, walk.frames[20].eye, walk.frames[4].eye}) {
+        const std::vector<SampleView> views = ps.views(p);
+        ASSERT_FALSE(views.empty());
+        const double gain = e.gain(views);
+        e.add(views);
+        EXPECT_NEAR(last - e.mae(), gain, 1e-9);
+        EXPECT_GE(gain, 0.0);
+        last = e.mae();
+    }
+    EXPECT_LT(last, 0.5 * ps.errorModel().fallback);
+}
+
+TEST(PlacementError, ReversedFacesGiveTheSameFreeSpaceAndProbesOfTheSameQuality) {
+    const Scene original = twoRooms();
+    const CameraPath walk = twoRoomsWalk();
+    std::uint32_t state = 12345u;  // a fixed "random" half
+    std::vector<std::uint8_t> half(original.triangleCount());
+    for (auto& h : half) state = state * 1664525u + 1013904223u, h = std::uint8_t(state >> 31);
+    const Scene all = withFlipped(original, [](std::size_t) { return true; });
+    const Scene some = withFlipped(original, [&](std::size_t t) { return half[t] != 0; });
+    const Scene same = withFlipped(original, [](std::size_t) { return false; });
+
+    const PlaceSettings s = errorSettings(original);
+    const PlacementScene base(same, s, &walk);
+    const Placement reference = placeVoting(base);
+    ASSERT_FALSE(reference.probes.empty());
+    for (const Scene* scene : {&all, &some}) {
+        for (const CameraPath* path : {&walk, static_cast<const CameraPath*>(nullptr)}) {
+            const PlacementScene ps(*scene, s, path);
+            SCOPED_TRACE(std::string(scene == &all ? "all" : "half") + " reversed, " + (path ? "walk" : "no walk"));
+            if (path) {
+                // Reached from the walk's eyes: the very same voxels, whatever the winding.
+                EXPECT_EQ(ps.freeSpace().stats().candidates, base.freeSpace().stats().candidates);
+                EXPECT_EQ(ps.freeSpace().stats().reached, base.freeSpace().stats().reached);
+            }
+            EXPECT_GT(ps.freeSpace().stats().candidates, base.freeSpace().stats().candidates / 2);
+            const Placement r = placeVoting(ps);
+            ASSERT_FALSE(r.probes.empty());
+            for (const PlacedProbe& p : r.probes) {
+                const bool inRoom = inBox(p.position, {0, 0, 0}, {kAx1, kH, kDepth}) ||
+                                    inBox(p.position, {kBx0, 0, 0}, {kBx1, kH, kDepth});
+                EXPECT_TRUE(inRoom) << p.position.x << ", " << p.position.y << ", " << p.position.z;
+            }
+            if (path) {
+                std::printf("two rooms %s: %zu probes, predicted MAE %.4f (as wound: %zu, %.4f)\n",
+                            scene == &all ? "all reversed" : "half reversed", r.probes.size(), r.predictedMae,
+                            reference.probes.size(), reference.predictedMae);
+                EXPECT_NEAR(r.predictedMae, reference.predictedMae, 0.05 * reference.predictedMae);
+            }
+        }
+    }
+}
+
+TEST(PlacementError, EveryMethodPlacesProbesForAWalkThroughAReversedModel) {
+    const Scene scene = withFlipped(twoRooms(), [](std::size_t) { return true; });
+    const CameraPath walk = twoRoomsWalk();
+    PlaceSettings s = errorSettings(scene);
+    s.budget = 6;  // grid: at most; path: how many
+    const PlacementScene ps(scene, s, &walk);
+    std::vector<glm::vec3> along;
+    for (const ProbeSpec& p : probesAlongPath(walk, 6)) along.push_back(p.position);
+    const Placement voting = placeVoting(ps), grid = placeGrid(ps), coverage = placeCoverage(ps, walk),
+                    path = evaluate(ps, along, "path");
+    for (const Placement* r : {&voting, &grid, &coverage, &path}) {
+        EXPECT_FALSE(r->probes.empty()) << r->method;
+        for (const PlacedProbe& p : r->probes) EXPECT_TRUE(ps.freeSpace().isFree(p.position) || r == &path) << r->method;
+    }
+    EXPECT_EQ(voting.probes.size(), 6u);  // --budget is exact
+    EXPECT_EQ(voting.stop, "budget");
+    // The walk's eyes are candidates and the path set is the fallback: never worse than it.
+    EXPECT_LE(voting.predictedMae, path.predictedMae + 1e-9);
+}
+
+TEST(PlacementError, SealedReversedModelWithoutAWalkStillFindsItsRooms) {
+    const Scene scene = withFlipped(twoRooms(), [](std::size_t) { return true; });
+    const PlacementScene ps(scene, errorSettings(scene), nullptr);
+    EXPECT_TRUE(ps.freeSpace().stats().roomiestSeed);
+    const Placement r = placeVoting(ps);
+    ASSERT_FALSE(r.probes.empty());
+    int inA = 0, inB = 0;
+    for (const PlacedProbe& p : r.probes) {
+        inA += inBox(p.position, {0, 0, 0}, {kAx1, kH, kDepth});
+        inB += inBox(p.position, {kBx0, 0, 0}, {kBx1, kH, kDepth});
+    }
+    EXPECT_GE(inA, 1);  // the flood went through the door
+    EXPECT_GE(inB, 1);
+    EXPECT_EQ(inA + inB, int(r.probes.size()));
+}
+
+TEST(PlacementError, AWalkWhoseEyesAreAllInsideWallsIsRefused) {
+    const Scene scene = twoRooms();
+    CameraPath walk = twoRoomsWalk();
+    for (CameraFrame& f : walk.frames) f.eye.x = 0.5f * (kAx1 + kBx0), f.eye.z = 0.5f, f.target = f.eye + glm::vec3(0, 0, 1);
+    try {
+        const PlacementScene ps(scene, errorSettings(scene), &walk);
+        FAIL() << "a walk inside the wall was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("eyes"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace

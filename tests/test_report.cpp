@@ -191,8 +191,9 @@ TEST_F(ReportRun, WritesOneSelfContainedPage) {
     EXPECT_EQ(sources, 11);
     EXPECT_FALSE(contains(page, "<link")) << "no external stylesheet";
     EXPECT_FALSE(contains(page, "<script src")) << "no external script";
-    for (const char* part : {"probes (traced bake)", "gtao", "MAE per frame", "Flicker per frame", "coverage gain",
-                             "ms/probe", "image-rendering:pixelated", "than the best screen-space baseline"})
+    for (const char* part : {"probes (traced bake)", "gtao", "MAE per frame", "Flicker per frame",
+                             "the error each removed", "predicted MAE", "ms/probe", "image-rendering:pixelated",
+                             "than the best screen-space baseline"})
         EXPECT_TRUE(contains(page, part)) << part;
     EXPECT_EQ(runCli("report " + dir_->path().string() + " --out " + html.string() + " --frames 7").code, 1)
         << "frame 7 is not in the run";

@@ -46,7 +46,7 @@ mkdir -p "$out"
 echo "== scene"
 "$bin" info "$scene" --json | tee "$out/info.log" | tail -1 >"$out/info.json"
 sed '$d' "$out/info.log"
-echo "== place: at most $nprobes probes ($place)"
+echo "== place: $nprobes probes ($place; fewer only where no probe lowers the predicted error)"
 # The probes cover what the walk sees: its camera file, or a built-in scene's own path.
 place_camera=${CUBEAO_DEMO_CAMERA:-}
 [ -z "$place_camera" ] && [[ "$scene" == builtin:* ]] && place_camera=$scene

@@ -56,18 +56,23 @@ std::vector<SurfaceSample> sampleSurface(const Scene& scene, std::size_t points,
     return samples;
 }
 
-std::vector<std::uint8_t> relevantFromCamera(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
-                                             const CameraPath& path, std::size_t maxFrames) {
+std::vector<float> imageShareFromCamera(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                                        const CameraPath& path, std::size_t maxFrames) {
     std::vector<PinholeCamera> cameras;
     const std::size_t frames = path.frames.size();
     const std::size_t used = std::min(frames, std::max<std::size_t>(maxFrames, 1));
     for (std::size_t k = 0; k < used; ++k) cameras.emplace_back(path, k * frames / used, path.width, path.height);
     const float aspect = float(path.width) / float(path.height);
     const float eps = embree.surfaceEpsilon();
-    std::vector<std::uint8_t> relevant(samples.size(), 0);
+    std::vector<float> share(samples.size(), 0.0f);
+    if (cameras.empty()) return share;
+    // The image plane at distance 1 spans (2 tan(fov/2))² · aspect: the frame's solid angle, near enough
+    // for a near-horizontal field of view.
+    const float frameSolidAngle = 4.0f * cameras.front().tanHalfFovY * cameras.front().tanHalfFovY * aspect;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size()), [&](const auto& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const SurfaceSample& s = samples[i];
+            double sum = 0.0;
             for (const PinholeCamera& cam : cameras) {
                 const glm::vec3 d = s.position - cam.eye;
                 const float z = glm::dot(d, cam.forward), distance = glm::length(d);
@@ -77,14 +82,47 @@ std::vector<std::uint8_t> relevantFromCamera(const EmbreeScene& embree, std::spa
                 const glm::vec3 origin = s.position + s.normal * eps;
                 const glm::vec3 toEye = cam.eye - origin;
                 const float length = glm::length(toEye);
-                if (!embree.occluded(origin, toEye / length, 0.0f, length)) {
-                    relevant[i] = 1;
-                    break;
-                }
+                if (embree.occluded(origin, toEye / length, 0.0f, length)) continue;
+                // Solid angle on the image plane (z² / distance³ · cos): what the sample's pixels are.
+                const float cosine = -glm::dot(s.normal, d) / distance;
+                sum += double(s.area * cosine / (distance * distance)) * double(z / distance);
             }
+            // A sample seen at all is relevant even where its share rounds to 0 (a grazing view).
+            if (sum > 0.0) share[i] = std::max(float(sum / double(cameras.size()) / frameSolidAngle), 1e-30f);
         }
     });
+    return share;
+}
+
+std::vector<std::uint8_t> relevantFromCamera(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                                             const CameraPath& path, std::size_t maxFrames) {
+    const std::vector<float> share = imageShareFromCamera(embree, samples, path, maxFrames);
+    std::vector<std::uint8_t> relevant(share.size());
+    for (std::size_t i = 0; i < share.size(); ++i) relevant[i] = share[i] > 0.0f ? 1 : 0;
     return relevant;
+}
+
+std::vector<SampleView> visibleSamples(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                                       std::span<const std::uint8_t> relevant, const CoverageCriterion& criterion,
+                                       const glm::vec3& probe) {
+    std::vector<float> area(samples.size(), INFINITY);
+    const float eps = embree.surfaceEpsilon();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size(), 256), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            if (!relevant[i]) continue;
+            const SurfaceSample& s = samples[i];
+            const float a = criterion.footprint(probe, s.position, s.normal);
+            if (!(a < INFINITY)) continue;
+            const glm::vec3 origin = s.position + s.normal * eps;
+            const glm::vec3 toProbe = probe - origin;
+            const float length = glm::length(toProbe);
+            if (length > 0.0f && !embree.occluded(origin, toProbe / length, 0.0f, length)) area[i] = a;
+        }
+    });
+    std::vector<SampleView> seen;
+    for (std::size_t i = 0; i < area.size(); ++i)
+        if (area[i] < INFINITY) seen.push_back({std::uint32_t(i), area[i]});
+    return seen;
 }
 
 bool probeMayCover(const CoverageCriterion& criterion, const glm::vec3& probe, const SurfaceSample& s) {

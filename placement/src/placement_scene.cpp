@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -30,6 +31,8 @@ void PlaceSettings::validate() const {
     if (votingRays < 1 || votingRays > 4096)
         throw UsageError("--rays must be between 1 and 4096 (got " + std::to_string(votingRays) + ")");
     if (!(target > 0.0 && target <= 1.0)) throw UsageError("--coverage-target must lie in (0, 1]");
+    if (!(std::isfinite(targetError) && targetError >= 0.0f && targetError < 1.0f))
+        throw UsageError("--target-error must lie in [0, 1) (0: automatic)");
     if (budget < 0 || budget > 1'000'000)
         throw UsageError("--budget must be between 0 and 1000000 (0: no limit) (got " + std::to_string(budget) + ")");
 }
@@ -38,7 +41,7 @@ nlohmann::json PlaceSettings::toJson() const {
     return {{"radius", radius},   {"res", res},         {"texels_per_radius", texelsPerRadius},
             {"voxel", voxel},     {"clearance", clearance}, {"samples", samples},
             {"rays", votingRays}, {"coverage_target", target}, {"budget", budget},
-            {"seed", seed}};
+            {"target_error", targetError}, {"seed", seed}};
 }
 
 PlacementScene::PlacementScene(const Scene& scene, const PlaceSettings& settings, const CameraPath* camera)
@@ -70,12 +73,22 @@ PlacementScene::PlacementScene(const Scene& scene, const PlaceSettings& settings
     embree_ = std::make_unique<EmbreeScene>(scene);
     samples_ = sampleSurface(scene, settings_.samples, settings_.seed);
     timings_.emplace_back("samples", watch.restart());
-    freeSpace_ = std::make_unique<FreeSpace>(scene, *embree_, settings_.voxel, settings_.clearance);
+    // The walk's eyes are known to be free: they seed the flood of free space (free_space.h).
+    if (camera)
+        for (const CameraFrame& f : camera->frames) eyes_.push_back(f.eye);
+    freeSpace_ = std::make_unique<FreeSpace>(scene, *embree_, settings_.voxel, settings_.clearance, eyes_);
+    if (camera && !eyes_.empty() && freeSpace_->stats().seeds == 0)
+        throw Error("placement: " + scene.source + ": none of the walk's " + std::to_string(eyes_.size()) +
+                    " eyes stands in free space (each is within --clearance " + std::to_string(freeSpace_->clearance()) +
+                    " of geometry, or sees no clear voxel centre around it): is the walk made for this model "
+                    "(same units and coordinates), or --clearance/--voxel too large?");
     settings_.voxel = freeSpace_->grid().voxel;
     settings_.clearance = freeSpace_->clearance();
     timings_.emplace_back("free_space", watch.restart());
     if (camera) {
-        relevant_ = relevantFromCamera(*embree_, samples_, *camera);
+        weights_ = imageShareFromCamera(*embree_, samples_, *camera);
+        relevant_.resize(weights_.size());
+        for (std::size_t i = 0; i < weights_.size(); ++i) relevant_[i] = weights_[i] > 0.0f ? 1 : 0;
         timings_.emplace_back("relevance", watch.restart());
     } else {
         // Without a camera the relevant samples are those free space sees: the voting rays find
@@ -87,6 +100,9 @@ PlacementScene::PlacementScene(const Scene& scene, const PlaceSettings& settings
         relevant_ = std::move(reached);
         // Votes of samples that turned out irrelevant (no free voxel) cannot exist: a vote needs one.
         votes_ = std::move(v);
+        weights_.assign(samples_.size(), 0.0f);
+        for (std::size_t i = 0; i < samples_.size(); ++i)
+            if (relevant_[i]) weights_[i] = samples_[i].area;
         timings_.emplace_back("relevance_and_votes", watch.restart());
     }
 }
@@ -95,6 +111,10 @@ PlacementScene::~PlacementScene() = default;
 
 std::vector<std::uint32_t> PlacementScene::covered(const glm::vec3& probe) const {
     return coveredSamples(*embree_, samples_, relevant_, criterion_, probe);
+}
+
+std::vector<SampleView> PlacementScene::views(const glm::vec3& probe) const {
+    return visibleSamples(*embree_, samples_, relevant_, criterion_, probe);
 }
 
 const PlacementScene::Votes& PlacementScene::votes() const {
@@ -118,18 +138,87 @@ Placement evaluate(const PlacementScene& ps, const std::vector<glm::vec3>& probe
             throw Error("placement (" + result.method + "): two probes at (" + std::to_string(p.x) + ", " +
                         std::to_string(p.y) + ", " + std::to_string(p.z) + ")");
     CoverageCounts counts(ps.samples(), ps.relevant());
+    ExpectedError error(ps);
+    const float maxArea = ps.criterion().maxArea();
+    std::vector<std::uint8_t> served(ps.samples().size(), 0);
     for (const glm::vec3& p : probes) {
-        const std::vector<std::uint32_t> covered = ps.covered(p);
-        const double before = counts.coverage(), before2 = counts.coverage2();
+        const std::vector<SampleView> views = ps.views(p);
+        std::vector<std::uint32_t> covered;
+        for (const SampleView& v : views) {
+            served[v.sample] = 1;
+            if (v.area <= maxArea) covered.push_back(v.sample);
+        }
+        const double before = counts.coverage(), before2 = counts.coverage2(), beforeMae = error.mae();
         counts.add(covered);
-        result.probes.push_back({p, counts.coverage() - before, counts.coverage2() - before2});
+        error.add(views);
+        result.probes.push_back({p, counts.coverage() - before, counts.coverage2() - before2, beforeMae - error.mae()});
     }
     result.coverage = counts.coverage();
     result.coverage2 = counts.coverage2();
     result.relevantArea = counts.relevantArea();
+    result.predictedMae = error.mae();
+    double servedArea = 0.0;
+    for (std::size_t i = 0; i < served.size(); ++i)
+        if (served[i]) servedArea += ps.samples()[i].area;
+    result.served = result.relevantArea > 0.0 ? servedArea / result.relevantArea : 1.0;
     result.timings = ps.timings();
     result.timings.emplace_back("report", watch.seconds());
     return result;
 }
+
+ExpectedError::ExpectedError(const PlacementScene& ps) : ps_(ps), current_(ps.samples().size(), 0.0f) {
+    const float fallback = ps.errorModel().fallback;
+    for (std::size_t i = 0; i < current_.size(); ++i) {
+        const double w = ps.weights()[i];
+        if (!(w > 0.0)) continue;
+        current_[i] = fallback;
+        totalWeight_ += w;
+        weighted_ += w * fallback;
+    }
+}
+
+double ExpectedError::gain(std::span<const SampleView> views) const {
+    double g = 0.0;
+    for (const SampleView& v : views) {
+        const float e = ps_.expectedError(v.area);
+        if (e < current_[v.sample]) g += double(ps_.weights()[v.sample]) * double(current_[v.sample] - e);
+    }
+    return totalWeight_ > 0.0 ? g / totalWeight_ : 0.0;
+}
+
+void ExpectedError::add(std::span<const SampleView> views) {
+    for (const SampleView& v : views) {
+        const float e = ps_.expectedError(v.area);
+        if (e < current_[v.sample]) {
+            weighted_ -= double(ps_.weights()[v.sample]) * double(current_[v.sample] - e);
+            current_[v.sample] = e;
+        }
+    }
+}
+
+ErrorTerms errorTerms(const PlacementScene& ps, const std::vector<glm::vec3>& probes) {
+    std::vector<float> best(ps.samples().size(), INFINITY);
+    for (const glm::vec3& p : probes)
+        for (const SampleView& v : ps.views(p)) best[v.sample] = std::min(best[v.sample], v.area);
+    ErrorTerms t;
+    double total = 0.0;
+    const float radius = ps.settings().radius;
+    for (std::size_t i = 0; i < best.size(); ++i) {
+        const double w = ps.weights()[i];
+        if (!(w > 0.0)) continue;
+        total += w;
+        if (!(best[i] < INFINITY)) {
+            t.unserved += w;
+            continue;
+        }
+        t.served += w;
+        t.texel += w * std::sqrt(double(best[i])) / double(radius);
+        if (ps.expectedError(best[i]) >= ps.errorModel().fallback) t.capped += w;
+    }
+    if (total > 0.0) t.served /= total, t.texel /= total, t.unserved /= total, t.capped /= total;
+    return t;
+}
+
+double ExpectedError::mae() const { return totalWeight_ > 0.0 ? std::max(0.0, weighted_) / totalWeight_ : 0.0; }
 
 }  // namespace cubeao::placement

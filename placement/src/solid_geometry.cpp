@@ -108,6 +108,8 @@ struct SolidGeometry::Impl {
     std::vector<std::unique_ptr<Solid>> solids;
     std::size_t rooms = 0;
     std::size_t open = 0;
+    std::vector<std::uint32_t> componentOfTriangle;  // per scene triangle; kNoComponent when dropped
+    std::size_t componentCount = 0;
 
     // Uniform grid over the solids' bounding boxes (CSR lists of solid indices per cell): scenes have
     // thousands of solids, and testing every bounding box per query costs far more than the exact test.
@@ -144,6 +146,7 @@ SolidGeometry::Impl::Impl(const Scene& scene) {
     }
 
     std::vector<std::array<std::uint32_t, 3>> tris;  // in merged ids, the scene's own winding
+    std::vector<std::uint32_t> sceneTriangle;       // the scene triangle of each entry of tris
     tris.reserve(triangleCount);
     triangles.reserve(triangleCount);
     for (std::size_t t = 0; t < triangleCount; ++t) {
@@ -163,6 +166,7 @@ SolidGeometry::Impl::Impl(const Scene& scene) {
         // but are no polygons: they would break the soup orientation.
         if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) continue;
         tris.push_back(tri);
+        sceneTriangle.push_back(static_cast<std::uint32_t>(t));
     }
 
     if (!triangles.empty()) {
@@ -180,12 +184,16 @@ SolidGeometry::Impl::Impl(const Scene& scene) {
     }
     std::unordered_map<std::uint32_t, std::uint32_t> componentOfRoot;
     std::vector<std::vector<std::array<std::uint32_t, 3>>> components;
-    for (const auto& tri : tris) {
+    componentOfTriangle.assign(triangleCount, kNoComponent);
+    for (std::size_t k = 0; k < tris.size(); ++k) {
+        const auto& tri = tris[k];
         const std::uint32_t root = uf.find(tri[0]);
         auto [it, inserted] = componentOfRoot.try_emplace(root, static_cast<std::uint32_t>(components.size()));
         if (inserted) components.emplace_back();
         components[it->second].push_back(tri);
+        componentOfTriangle[sceneTriangle[k]] = it->second;
     }
+    componentCount = components.size();
     for (const auto& component : components) classifyComponent(merged, component);
     buildGrid();
 }
@@ -336,6 +344,14 @@ bool SolidGeometry::insideClosedSolid(const glm::vec3& p) const {
         if ((*solid->side)(point) == CGAL::ON_BOUNDED_SIDE) return true;
     }
     return false;
+}
+
+const std::vector<std::uint32_t>& SolidGeometry::componentOfTriangle() const {
+    return impl_->componentOfTriangle;
+}
+
+std::size_t SolidGeometry::componentCount() const {
+    return impl_->componentCount;
 }
 
 std::size_t SolidGeometry::closedSolids() const {

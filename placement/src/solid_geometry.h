@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -31,6 +33,13 @@ public:
     // inward-facing closed box) and open components never count: their inside is free space or unknown.
     // Exact (CGAL::Side_of_triangle_mesh); points on the boundary count as not inside.
     bool insideClosedSolid(const glm::vec3& p) const;
+
+    // The connected component (by shared vertex positions) of every scene triangle, in [0,
+    // componentCount()), or kNoComponent for a triangle dropped as degenerate or non-finite. Free space
+    // spreads the winding it learns from the faces it sees over the rest of their component.
+    static constexpr std::uint32_t kNoComponent = ~0u;
+    const std::vector<std::uint32_t>& componentOfTriangle() const;
+    std::size_t componentCount() const;
 
     std::size_t closedSolids() const;     // closed outward components
     std::size_t closedRooms() const;      // closed inward components (ignored by insideClosedSolid)

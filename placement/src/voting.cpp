@@ -2,7 +2,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <queue>
+#include <set>
+#include <tuple>
 #include <span>
 
 #include <glm/common.hpp>
@@ -19,18 +22,9 @@
 namespace cubeao::placement {
 namespace {
 
-// Second coverage counts half as much as first in the greedy gain: the run time blends the best two
-// probes, but a point no probe sees is far worse off than one only one probe sees.
-constexpr double kSecondWeight = 0.5;
-
-// The greedy's objective: what `covered` adds to first coverage, plus half of what it adds to second.
-double objectiveGain(const CoverageCounts& counts, std::span<const std::uint32_t> covered) {
-    return counts.gain(covered) + kSecondWeight * counts.gain2(covered);
-}
-
 struct Vote {
     std::uint32_t candidate;
-    float weight;
+    float weight, area, scale;
 };
 
 }  // namespace
@@ -71,9 +65,17 @@ PlacementScene::Votes castVotes(const EmbreeScene& embree, const FreeSpace& spac
                     if (!seenFree) firstFree.push_back(std::uint32_t(candidate));
                     seenFree = true;
                     const glm::vec3 center = grid.center(c);
-                    if (glm::distance(center, s.position) > maxDistance) return true;
+                    const float distance = glm::distance(center, s.position);
+                    if (distance > maxDistance) return true;
                     const float area = criterion.footprint(center, s.position, s.normal);
-                    if (area <= maxArea) votes.push_back({std::uint32_t(candidate), s.area / area});
+                    if (area <= maxArea) {
+                        // The chance that one of the rays crosses this voxel: its solid angle (about
+                        // voxel² / distance²) times the rays' cosine density, at most 1.
+                        const float cosine = std::max(glm::dot(dir, s.normal), 1e-3f);
+                        const float chance = std::min(1.0f, float(rays) * cosine / 3.14159265f * grid.voxel *
+                                                                grid.voxel / std::max(distance * distance, 1e-12f));
+                        votes.push_back({std::uint32_t(candidate), s.area / area, area, 1.0f / chance});
+                    }
                     return true;
                 });
             }
@@ -106,14 +108,54 @@ PlacementScene::Votes castVotes(const EmbreeScene& embree, const FreeSpace& spac
         for (const Vote& v : votes) ++out.offsets[v.candidate + 1];
     for (std::size_t c = 0; c < candidates; ++c) out.offsets[c + 1] += out.offsets[c];
     out.voters.resize(out.offsets.back());
+    out.area.resize(out.offsets.back());
+    out.scale.resize(out.offsets.back());
     std::vector<std::uint64_t> fill(out.offsets.begin(), out.offsets.end() - 1);
     for (std::size_t i = 0; i < perSample.size(); ++i)
         for (const Vote& v : perSample[i]) {
-            out.voters[fill[v.candidate]++] = std::uint32_t(i);
+            const std::uint64_t k = fill[v.candidate]++;
+            out.voters[k] = std::uint32_t(i);
+            out.area[k] = v.area;
+            out.scale[k] = v.scale;
             out.weight[v.candidate] += v.weight;
         }
     return out;
 }
+
+namespace {
+
+// A place a probe may go: a free voxel's centre (`voxel` its candidate number, whose votes estimate
+// it) or one of the walk's eyes (voxel −1: evaluated exactly from the start).
+struct Site {
+    glm::vec3 position;
+    std::int64_t voxel;
+};
+
+// The sites of the greedy: every free voxel that got a vote, then the walk's eyes where they keep a
+// tenth of the clearance (the bake needs a probe outside geometry; the walk says its eyes are free).
+// `count` of `points` evenly spread along their order, as probesAlongPath spreads a walk's eyes.
+std::vector<glm::vec3> evenlySpread(const std::vector<glm::vec3>& points, std::size_t count) {
+    std::vector<glm::vec3> picked;
+    const std::size_t n = std::min(count, points.size());
+    for (std::size_t i = 0; i < n; ++i) picked.push_back(points[(2 * i + 1) * points.size() / (2 * n)]);
+    return picked;
+}
+
+std::vector<Site> sitesOf(const PlacementScene& ps) {
+    const PlacementScene::Votes& votes = ps.votes();
+    const FreeSpace& space = ps.freeSpace();
+    std::vector<Site> sites;
+    for (std::size_t c = 0; c < space.candidates().size(); ++c)
+        if (votes.offsets[c + 1] > votes.offsets[c]) sites.push_back({space.candidatePosition(c), std::int64_t(c)});
+    std::set<std::tuple<float, float, float>> seen;
+    for (const Site& s : sites) seen.insert({s.position.x, s.position.y, s.position.z});
+    for (const glm::vec3& eye : ps.eyes())
+        if (space.distanceToSurface(eye) >= 0.1f * space.clearance() && seen.insert({eye.x, eye.y, eye.z}).second)
+            sites.push_back({eye, -1});
+    return sites;
+}
+
+}  // namespace
 
 Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     Stopwatch watch;
@@ -124,120 +166,152 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     result.timings = ps.timings();
     watch.restart();
 
-    const std::vector<SurfaceSample>& samples = ps.samples();
-    CoverageCounts counts(samples, ps.relevant());
-    const std::size_t candidates = ps.freeSpace().candidates().size();
-    // The objective's gain if candidate c covered exactly its voters.
-    auto voterGain = [&](std::size_t c) {
-        const std::uint64_t first = votes.offsets[c], count = votes.offsets[c + 1] - first;
-        return objectiveGain(counts, std::span(votes.voters).subspan(first, count));
+    const std::vector<Site> sites = sitesOf(ps);
+    ExpectedError error(ps);
+    // Exact views of the sites evaluated so far (the visibility never changes, only the error state).
+    std::vector<std::optional<std::vector<SampleView>>> exact(sites.size());
+    std::size_t evaluations = 0;
+    double totalWeight = 0.0;
+    for (const float w : ps.weights()) totalWeight += w;
+    auto viewsOf = [&](std::size_t k) -> const std::vector<SampleView>& {
+        if (!exact[k]) exact[k] = ps.views(sites[k].position), ++evaluations;
+        return *exact[k];
     };
-    // Lazy greedy: the gains only fall as coverage grows (a sum of concave functions of the counts),
-    // so a candidate whose refreshed gain still beats every stale bound above it is the best.
-    using Entry = std::pair<double, std::int64_t>;  // (gain bound, −candidate): ties go to the lowest index
+    // The gain of site k: exact where evaluated, else its votes' estimate (each voter scaled by the
+    // inverse of the chance its rays found the voxel).
+    auto gainOf = [&](std::size_t k) {
+        if (exact[k]) return error.gain(*exact[k]);
+        const std::int64_t c = sites[k].voxel;
+        if (c < 0) return error.gain(viewsOf(k));
+        double g = 0.0;
+        for (std::uint64_t v = votes.offsets[std::size_t(c)]; v < votes.offsets[std::size_t(c) + 1]; ++v) {
+            const std::uint32_t s = votes.voters[v];
+            const float e = ps.expectedError(votes.area[v]);
+            if (e < error.current(s)) g += double(votes.scale[v]) * double(ps.weights()[s]) * double(error.current(s) - e);
+        }
+        return totalWeight > 0.0 ? g / totalWeight : 0.0;
+    };
+
+    // Lazy greedy on expected error removed (gains only fall as probes join: the error of a sample is
+    // the least over its probes). An entry computed in an earlier round is refreshed before it is
+    // trusted; an estimate is replaced by the exact gain before a site is taken.
+    struct Entry {
+        double gain;
+        std::int64_t negativeSite;  // ties go to the lowest site
+        std::size_t round;
+        bool operator<(const Entry& o) const {
+            return gain != o.gain ? gain < o.gain : negativeSite < o.negativeSite;
+        }
+    };
     std::priority_queue<Entry> queue;
-    for (std::size_t c = 0; c < candidates; ++c)
-        if (votes.offsets[c + 1] > votes.offsets[c]) queue.push({voterGain(c), -std::int64_t(c)});
+    for (std::size_t k = 0; k < sites.size(); ++k) queue.push({gainOf(k), -std::int64_t(k), 0});
 
     struct Chosen {
-        std::size_t candidate;
+        std::size_t site;
         glm::vec3 position;
-        std::vector<std::uint32_t> covered;
+        std::vector<SampleView> views;
     };
     std::vector<Chosen> chosen;
-    const std::size_t budget = settings.budget > 0 ? std::size_t(settings.budget) : candidates;
-    std::size_t evaluations = 0;
-    while (!queue.empty() && chosen.size() < budget && counts.coverage() < settings.target) {
-        const auto [bound, negative] = queue.top();
+    std::vector<std::uint8_t> taken(sites.size(), 0);
+    const std::size_t budget = settings.budget > 0 ? std::size_t(settings.budget) : sites.size();
+    result.stop = "no_gain";
+    std::size_t round = 0;
+    while (chosen.size() < budget) {
+        if (settings.budget == 0 && settings.targetError > 0.0f && error.mae() <= settings.targetError) {
+            result.stop = "target_error";
+            break;
+        }
+        if (queue.empty()) break;
+        const Entry top = queue.top();
         queue.pop();
-        const std::size_t c = std::size_t(-negative);
-        const double gain = voterGain(c);
-        if (!(gain > 0.0)) continue;
-        if (!queue.empty() && gain < queue.top().first) {
-            queue.push({gain, negative});
+        const std::size_t k = std::size_t(-top.negativeSite);
+        if (taken[k]) continue;
+        if (top.round != round || !exact[k]) {
+            if (top.round == round) viewsOf(k);
+            queue.push({gainOf(k), top.negativeSite, round});
             continue;
         }
-        // The votes said so; the exact test decides (a voxel's centre can be hidden where its ray was not).
-        const glm::vec3 position = ps.freeSpace().candidatePosition(c);
-        std::vector<std::uint32_t> covered = ps.covered(position);
-        ++evaluations;
-        if (!(objectiveGain(counts, covered) > 0.0)) continue;
-        counts.add(covered);
-        chosen.push_back({c, position, std::move(covered)});
+        if (!(top.gain > 0.0)) break;
+        if (settings.budget == 0 && settings.targetError == 0.0f && top.gain < kAutomaticStop * error.mae()) {
+            result.stop = "automatic";
+            break;
+        }
+        error.add(*exact[k]);
+        taken[k] = 1;
+        chosen.push_back({k, sites[k].position, *exact[k]});
+        ++round;
         if (progress) progress->advance();
     }
+    if (chosen.size() == budget && settings.budget > 0) result.stop = "budget";
     result.timings.emplace_back("greedy", watch.restart());
 
-    // Pruning: drop probes, least unique area first, while the target still holds.
-    if (counts.coverage() >= settings.target) {
-        bool dropped = true;
-        while (dropped && chosen.size() > 1) {
-            dropped = false;
-            std::size_t weakest = chosen.size();
-            double weakestArea = std::numeric_limits<double>::infinity();
-            for (std::size_t k = 0; k < chosen.size(); ++k) {
-                double unique = 0.0;
-                for (const std::uint32_t s : chosen[k].covered)
-                    if (counts.count(s) == 1) unique += samples[s].area;
-                if (unique < weakestArea) weakestArea = unique, weakest = k;
-            }
-            counts.remove(chosen[weakest].covered);
-            if (counts.coverage() >= settings.target) {
-                chosen.erase(chosen.begin() + std::ptrdiff_t(weakest));
-                dropped = true;
-            } else {
-                counts.add(chosen[weakest].covered);
-            }
-        }
-    }
-    result.timings.emplace_back("prune", watch.restart());
-
-    // Local move: each probe tries the six neighbouring candidate voxels and takes the one that adds
-    // the most (first coverage, plus half of second coverage) given all other probes.
-    const VoxelGrid& grid = ps.freeSpace().grid();
+    // Local move: each probe tries the six free voxels around it and takes the one that removes the
+    // most expected error given all the other probes.
+    const FreeSpace& space = ps.freeSpace();
+    const VoxelGrid& grid = space.grid();
     std::size_t moves = 0;
-    // Two probes never share a voxel (the bake refuses a probe set with two at one position).
-    std::vector<std::uint8_t> taken(candidates, 0);
-    for (const Chosen& c : chosen) taken[c.candidate] = 1;
-    for (Chosen& probe : chosen) {
-        counts.remove(probe.covered);
-        double best = objectiveGain(counts, probe.covered);
-        const glm::ivec3 cell = grid.cell(ps.freeSpace().candidates()[probe.candidate]);
+    std::set<std::tuple<float, float, float>> occupied;
+    for (const Chosen& c : chosen) occupied.insert({c.position.x, c.position.y, c.position.z});
+    for (std::size_t j = 0; j < chosen.size(); ++j) {
+        ExpectedError others(ps);
+        for (std::size_t i = 0; i < chosen.size(); ++i)
+            if (i != j) others.add(chosen[i].views);
+        double best = others.gain(chosen[j].views);
+        const glm::ivec3 cell =
+            glm::clamp(glm::ivec3(glm::floor((chosen[j].position - grid.origin) / grid.voxel)), glm::ivec3(0), grid.dims - 1);
         static constexpr int kNeighbours[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
         for (const auto& step : kNeighbours) {
             const glm::ivec3 n = cell + glm::ivec3(step[0], step[1], step[2]);
-            if (!grid.contains(n)) continue;
-            const std::int32_t candidate = ps.freeSpace().candidateOf(grid.index(n));
-            if (candidate < 0 || taken[std::size_t(candidate)]) continue;
-            const glm::vec3 position = ps.freeSpace().candidatePosition(std::size_t(candidate));
-            std::vector<std::uint32_t> covered = ps.covered(position);
+            if (!grid.contains(n) || space.candidateOf(grid.index(n)) < 0) continue;
+            const glm::vec3 position = grid.center(n);
+            if (occupied.count({position.x, position.y, position.z})) continue;
+            std::vector<SampleView> views = ps.views(position);
             ++evaluations;
-            const double g = objectiveGain(counts, covered);
+            const double g = others.gain(views);
             if (g > best) {
                 best = g;
-                taken[probe.candidate] = 0;
-                taken[std::size_t(candidate)] = 1;
-                probe = {std::size_t(candidate), position, std::move(covered)};
+                occupied.erase({chosen[j].position.x, chosen[j].position.y, chosen[j].position.z});
+                occupied.insert({position.x, position.y, position.z});
+                chosen[j].position = position;
+                chosen[j].views = std::move(views);
                 ++moves;
             }
         }
-        counts.add(probe.covered);
     }
     result.timings.emplace_back("move", watch.restart());
 
     std::vector<glm::vec3> positions;
     for (const Chosen& c : chosen) positions.push_back(c.position);
+    // The walk's own eyes, evenly spread, at the same count (the `path` method): the greedy is a
+    // heuristic on estimates, so where that set predicts less error it is taken instead, and voting
+    // never does worse than path by its own measure.
+    bool pathWon = false;
+    if (!ps.eyes().empty() && !chosen.empty()) {
+        const std::vector<glm::vec3> path = evenlySpread(ps.eyes(), chosen.size());
+        ExpectedError ours(ps), theirs(ps);
+        for (const Chosen& c : chosen) ours.add(c.views);
+        for (const glm::vec3& p : path) theirs.add(ps.views(p));
+        if (theirs.mae() < ours.mae()) positions = path, pathWon = true;
+    }
     Placement report = evaluate(ps, positions, "voting");
     result.probes = std::move(report.probes);
     result.coverage = report.coverage;
     result.coverage2 = report.coverage2;
     result.relevantArea = report.relevantArea;
+    result.predictedMae = report.predictedMae;
+    result.served = report.served;
     result.timings.emplace_back("report", watch.restart());
-    result.figures = {{"candidates", double(candidates)},
+    std::size_t eyes = 0, eyesChosen = 0;
+    for (const Site& site : sites) eyes += site.voxel < 0;
+    for (const Chosen& c : chosen) eyesChosen += sites[c.site].voxel < 0;
+    result.figures = {{"candidates", double(sites.size())},
+                      {"eye_candidates", double(eyes)},
+                      {"eyes_chosen", double(eyesChosen)},
                       {"votes", double(votes.voters.size())},
                       {"vote_rays", double(votes.rays)},
                       {"exact_evaluations", double(evaluations)},
-                      {"moves", double(moves)}};
+                      {"moves", double(moves)},
+                      {"path_set_taken", pathWon ? 1.0 : 0.0}};
     return result;
 }
 

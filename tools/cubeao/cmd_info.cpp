@@ -3,10 +3,11 @@
 // probes, resolutions and bake parameters, and with --verify every checksum (exit 1 on any damage).
 #include <array>
 #include <cmath>
-#include <limits>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <memory>
 
 #include "cache_json.h"
 #include "commands.h"
@@ -15,7 +16,9 @@
 #include "cubeao/core/error.h"
 #include "cubeao/bake/probe_set.h"
 #include "cubeao/core/sampling.h"
+#include "cubeao/placement/placement.h"
 #include "cubeao/reference/embree_scene.h"
+#include "cubeao/scene/builtin.h"
 #include "cubeao/scene/import.h"
 #include "cubeao/scene/repair.h"
 
@@ -25,7 +28,8 @@ namespace {
 namespace fs = std::filesystem;
 
 struct InfoArgs {
-    std::string target, probes;
+    std::string target, probes, camera;
+    int res = 512;
     bool verify = false, json = false;
 };
 
@@ -40,18 +44,31 @@ bool isCache(const std::string& target) {
     return in.gcount() == 8 && std::string(head.data(), 8) == "\x89" "CUBEAO\n";
 }
 
-// `info SCENE --probes P.json`: where the probes of P stand, checked with Embree alone (none of the
-// placement code): a probe is inside geometry when most of 64 rays from it first meet the back of a
-// face, and the nearest surface along those rays bounds its clearance from above.
-nlohmann::json probeCheck(const Scene& s, const std::string& file) {
-    const std::vector<ProbeSpec> probes = readProbeSet(file, s.origin);
-    const EmbreeScene embree(s);
+// The prediction's parts, for fitting the error model to measured walks (tools/calibrate_error.sh).
+nlohmann::json errorTermsJson(const placement::ErrorTerms& t) {
+    return {{"served_weight", t.served}, {"texel_term", t.texel}, {"unserved_weight", t.unserved},
+            {"capped_weight", t.capped}};
+}
+
+// `info SCENE --probes P.json [--camera WALK]`: where the probes of P stand and what they are predicted
+// to give (issue 31). Free space is placement's, which does not depend on which way faces point: the
+// walk's eyes and the outside of the box seed it. "backface_majority" is the old rule (most of 64 rays
+// meet the back of a face), kept to show where a model's winding misleads it.
+nlohmann::json probeCheck(const Scene& s, const InfoArgs& a) {
+    const std::vector<ProbeSpec> probes = readProbeSet(a.probes, s.origin);
+    std::unique_ptr<CameraPath> path;
+    if (!a.camera.empty()) path = std::make_unique<CameraPath>(resolveCameraPath(a.camera, s));
+    placement::PlaceSettings settings;
+    settings.res = a.res;
+    const placement::PlacementScene ps(s, settings, path.get());
+    const EmbreeScene& embree = ps.embree();
     constexpr int kRays = 64;
-    std::size_t inside = 0, outside = 0;
+    std::size_t inside = 0, tooClose = 0, outside = 0, backMajority = 0;
     float nearest = std::numeric_limits<float>::infinity();
+    std::vector<glm::vec3> positions;
     for (std::size_t i = 0; i < probes.size(); ++i) {
         const glm::vec3 p = probes[i].position;
-        if (glm::any(glm::lessThan(p, s.bounds.min)) || glm::any(glm::greaterThan(p, s.bounds.max))) ++outside;
+        positions.push_back(p);
         int back = 0;
         float closest = std::numeric_limits<float>::infinity();
         for (int k = 0; k < kRays; ++k) {
@@ -63,18 +80,38 @@ nlohmann::json probeCheck(const Scene& s, const std::string& file) {
             closest = std::min(closest, h.t);
             if (glm::dot(h.normal, d) > 0.0f) ++back;
         }
-        if (2 * back > kRays) {
+        backMajority += 2 * back > kRays;
+        nearest = std::min(nearest, closest);
+        using Verdict = placement::FreeSpace::Verdict;
+        const Verdict v = ps.freeSpace().classify(p);
+        if (v == Verdict::Outside) ++outside;
+        if (v == Verdict::TooClose) ++tooClose;
+        if (v == Verdict::InsideClosed || v == Verdict::InsideByRays) {
             ++inside;
             const glm::dvec3 f = s.toFile(p);  // as probes.json has it
-            std::printf("  probe %zu at (%.10g, %.10g, %.10g): inside geometry (%d of %d rays meet a back face)\n", i,
-                        f.x, f.y, f.z, back, kRays);
+            std::printf("  probe %zu at (%.10g, %.10g, %.10g): inside geometry (no free space reaches it)\n", i, f.x,
+                        f.y, f.z);
         }
-        nearest = std::min(nearest, closest);
     }
-    std::printf("  probes     %zu in %s: %zu inside geometry, %zu outside the box, nearest surface %g\n", probes.size(),
-                file.c_str(), inside, outside, nearest);
-    return {{"file", file}, {"probes", probes.size()}, {"inside", inside}, {"outside_bbox", outside},
-            {"nearest_surface", std::isfinite(nearest) ? nlohmann::json(nearest) : nlohmann::json()}};
+    const placement::Placement report = placement::evaluate(ps, positions, "given");
+    std::printf("  probes     %zu in %s: %zu inside geometry, %zu within the clearance %g of a surface, %zu outside "
+                "the box, nearest surface %g\n"
+                "  predicted  walk MAE %.4f at %d² faces (what %s sees); served %.1f %% of the relevant area, fine "
+                "coverage %.1f %%\n",
+                probes.size(), a.probes.c_str(), inside, tooClose, ps.freeSpace().clearance(), outside, nearest,
+                report.predictedMae, a.res, path ? "the walk" : "free space", 100.0 * report.served,
+                100.0 * report.coverage);
+    return {{"file", a.probes},
+            {"probes", probes.size()},
+            {"inside", inside},
+            {"too_close", tooClose},
+            {"outside_bbox", outside},
+            {"backface_majority", backMajority},
+            {"nearest_surface", std::isfinite(nearest) ? nlohmann::json(nearest) : nlohmann::json()},
+            {"predicted_mae", report.predictedMae},
+            {"served", report.served},
+            {"coverage", report.coverage},
+            {"error_terms", errorTermsJson(placement::errorTerms(ps, positions))}};
 }
 
 void sceneInfo(const InfoArgs& a) {
@@ -115,7 +152,7 @@ void sceneInfo(const InfoArgs& a) {
     }
     j["problems"]["shared_edges"] = winding.sharedEdges;
     j["problems"]["flipped_edges"] = winding.flippedEdges;
-    if (!a.probes.empty()) j["probe_check"] = probeCheck(s, a.probes);
+    if (!a.probes.empty()) j["probe_check"] = probeCheck(s, a);
     if (a.json) printJson(j);
 }
 
@@ -168,7 +205,11 @@ void addInfo(CLI::App& app) {
         ->required();
     cmd->add_flag("--verify", a->verify, "Cache: check every checksum; exit 1 on any damage");
     cmd->add_option("--probes", a->probes,
-                    "Scene: check a probes.json against it (probes inside geometry, nearest surface; Embree)");
+                    "Scene: check a probes.json against it (probes inside geometry, nearest surface) and predict its "
+                    "walk MAE (placement's error model)");
+    cmd->add_option("--camera", a->camera, "Scene with --probes: the walk the prediction is for (default: free space)");
+    cmd->add_option("--res", a->res, "Scene with --probes: the bake's face size the prediction assumes")
+        ->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
     cmd->callback([a] {
         if (isCache(a->target) && !a->probes.empty()) throw UsageError("--probes checks a probe set against a scene");

@@ -29,6 +29,15 @@ struct PlaceArgs {
     bool json = false;
 };
 
+// Why voting stopped, in words for the summary line ("" for the other methods).
+std::string stopReason(const std::string& stop) {
+    if (stop == "budget") return "; the budget";
+    if (stop == "target_error") return "; --target-error reached";
+    if (stop == "automatic") return "; the next probe would remove under 2 % of the predicted error";
+    if (stop == "no_gain") return "; no further probe lowers the predicted error (fewer than --budget)";
+    return "";
+}
+
 double peakMemoryMb() {
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
@@ -111,7 +120,13 @@ void run(PlaceArgs a) {
     }
 
     std::vector<ProbeSpec> probes;
-    for (const placement::PlacedProbe& p : result.probes) probes.push_back({p.position, p.gain});
+    // Each probe's "gain" is the predicted walk MAE it removed after the ones before it (issue 31); the
+    // fine coverage it added goes beside it.
+    nlohmann::json coverageGains = nlohmann::json::array();
+    for (const placement::PlacedProbe& p : result.probes) {
+        probes.push_back({p.position, p.errorRemoved});
+        coverageGains.push_back(p.gain);
+    }
     nlohmann::json timings = nlohmann::json::object(), figures = nlohmann::json::object();
     for (const auto& [stage, seconds] : result.timings) timings[stage] = seconds;
     for (const auto& [name, value] : result.figures) figures[name] = value;
@@ -120,18 +135,27 @@ void run(PlaceArgs a) {
         {"method", m},
         {"params", ps.settings().toJson()},
         {"camera", path ? nlohmann::json(a.camera.empty() ? a.scene : a.camera) : nlohmann::json()},  // null: none
+        // Named for what they are (issue 31): the error model's walk MAE, the relevant area some probe
+        // sees (what the projection serves), and the fine coverage (a texel at most R / texels-per-radius).
+        {"predicted_mae", result.predictedMae},
+        {"served", result.served},
         {"coverage", result.coverage},
         {"coverage2", result.coverage2},
         {"relevant_area", result.relevantArea},
+        {"stop", result.stop.empty() ? nlohmann::json() : nlohmann::json(result.stop)},
         {"free_space",
-         {{"voxels", fs.voxels}, {"candidates", fs.candidates}, {"too_close", fs.tooClose},
-          {"inside_by_rays", fs.insideByRays}, {"inside_closed", fs.insideClosed}, {"closed_solids", fs.closedSolids},
-          {"closed_rooms", fs.closedRooms}, {"open_components", fs.openComponents}}},
+         {{"voxels", fs.voxels}, {"candidates", fs.candidates}, {"reached", fs.reached}, {"too_close", fs.tooClose},
+          {"inside_by_rays", fs.insideByRays}, {"inside_closed", fs.insideClosed}, {"outside_seeds", fs.outsideSeeds},
+          {"eye_seeds", fs.seeds}, {"eyes_not_free", fs.seedsNotFree}, {"reversed_faces", fs.reversedFaces},
+          {"closed_solids", fs.closedSolids}, {"closed_rooms", fs.closedRooms}, {"open_components", fs.openComponents}}},
+        {"coverage_gains", coverageGains},
         {"figures", figures},
         {"timings_s", timings}};
     writeProbeSet(a.out, probes, report, scene.origin);
-    std::printf("place %s: %zu probes, coverage %.2f %% (twice: %.2f %%) of %.4g relevant area -> %s\n", m.c_str(),
-                probes.size(), 100.0 * result.coverage, 100.0 * result.coverage2, result.relevantArea, a.out.c_str());
+    std::printf("place %s: %zu probes, predicted MAE %.4f, served %.1f %% of %.4g relevant area, fine coverage %.1f %% "
+                "(twice: %.1f %%)%s -> %s\n",
+                m.c_str(), probes.size(), result.predictedMae, 100.0 * result.served, result.relevantArea,
+                100.0 * result.coverage, 100.0 * result.coverage2, stopReason(result.stop).c_str(), a.out.c_str());
     if (a.json) {
         nlohmann::json j = report;
         j["probes"] = probes.size();
@@ -156,8 +180,16 @@ void addPlace(CLI::App& app) {
     cmd->add_option("--camera", a->camera,
                     "Camera path JSON: what it sees is what must be covered (default for built-in scenes with "
                     "path/coverage: their own path; voting/grid without it cover what free space sees)");
-    cmd->add_option("--budget", s.budget, "Most probes (0: no limit; path needs one)")->capture_default_str();
-    cmd->add_option("--coverage-target", s.target, "Coverage to reach, in (0, 1]")->capture_default_str();
+    cmd->add_option("--budget", s.budget,
+                    "voting: exactly this many probes (fewer only when no probe lowers the predicted error); "
+                    "grid: at most; path: how many (0: no limit)")
+        ->capture_default_str();
+    cmd->add_option("--coverage-target", s.target, "grid, coverage: fine coverage to reach, in (0, 1]")
+        ->capture_default_str();
+    cmd->add_option("--target-error", s.targetError,
+                    "voting: stop once the predicted walk MAE is at most this (0: stop where the next probe "
+                    "removes under 2 % of it)")
+        ->capture_default_str();
     cmd->add_option("--voxel", s.voxel, "Candidate voxel edge (0: ~150k voxels in the box)")->capture_default_str();
     cmd->add_option("--clearance", s.clearance, "Least distance from a probe to geometry (0: half a voxel)")
         ->capture_default_str();

@@ -3,7 +3,7 @@
 // (images as data: URIs, CSS, SVG charts, a few lines of script that only mark the page as loaded), so
 // the file can be mailed or archived and opens without a network. Per run, in the order a lead reads:
 // the headline table, frames side by side with error heat maps, per-frame MAE and flicker charts, bake
-// and render timings, and the probes over a top-down view of the scene coloured by coverage gain.
+// and render timings, and the probes over a top-down view of the scene coloured by the error each removed.
 #include <unistd.h>
 
 #include <algorithm>
@@ -590,7 +590,9 @@ std::string headline(const Run& run) {
     h += "<div class=\"facts\">";
     h += "<span>triangles <b>" + format("%lld", run.info.value("triangles", 0LL)) + "</b></span>";
     h += "<span>probes <b>" + std::to_string(probeCount) + "</b> (" + escape(str(run.probes, "method", "?")) +
-         " placement, coverage " + fmtNum(100.0 * num(run.probes, "coverage"), "%.1f") + " %)</span>";
+         " placement: predicted MAE " + fmtNum(num(run.probes, "predicted_mae"), "%.4f") + ", served " +
+         fmtNum(100.0 * num(run.probes, "served"), "%.1f") + " % of what the walk sees, fine coverage " +
+         fmtNum(100.0 * num(run.probes, "coverage"), "%.1f") + " %)</span>";
     h += "<span>walk <b>" + std::to_string(run.frames.size()) + " frames</b> at " +
          format("%lldx%lld", ref.value("width", 0LL), ref.value("height", 0LL)) + "</span>";
     h += "<span>AO radius <b>" + fmtNum(num(ref, "radius"), "%.3g") + "</b> scene units</span>";
@@ -795,7 +797,7 @@ std::string timingsSection(const Run& run) {
 
 // Section 5: the probes over the top-down view.
 std::string planSection(const Run& run) {
-    std::string h = "<h3>Probes over the scene from above, coloured by coverage gain</h3>";
+    std::string h = "<h3>Probes over the scene from above, coloured by the error each removed</h3>";
     const TopDown td = renderTopDown(run, 720);
     if (td.width == 0) return h + "<p class=\"note\">No scene and no probes to draw.</p>";
     std::vector<double> gains;
@@ -805,7 +807,7 @@ std::string planSection(const Run& run) {
         if (std::isfinite(g))
             gMin = std::isfinite(gMin) ? std::min(gMin, g) : g, gMax = std::isfinite(gMax) ? std::max(gMax, g) : g;
     const std::vector<glm::vec3>& pos = td.probes;
-    // The greedy order's first probe often gains several times what the last ones do: a log scale then
+    // The greedy order's first probe often removes several times what the last ones do: a log scale then
     // keeps the later probes apart.
     const bool logScale = gMin > 0.0 && gMax / gMin > 4.0;
     h += "<div class=\"plan\">" + imgTag(td.uri, td.width, td.height, "top-down view of the scene");
@@ -835,7 +837,7 @@ std::string planSection(const Run& run) {
         h +=
             format("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"%.1f\" fill=\"", p.x, p.y, r) +
             report::cssColour(report::gainColour(t)) +
-            format("\" stroke=\"#fff\" stroke-width=\"%.2f\"><title>probe %zu: gain %.4f, height %.2f</title></circle>",
+            format("\" stroke=\"#fff\" stroke-width=\"%.2f\"><title>probe %zu: removed %.4f of the predicted MAE, height %.2f</title></circle>",
                    1.5 / us, i, g, double(glm::dot(pos[i], td.up)));
     }
     // The frames shown as pictures, by number, where the camera stood (over the probes).
@@ -862,8 +864,7 @@ std::string planSection(const Run& run) {
     h += "</svg></div>";
     if (std::isfinite(gMin) && gMax > gMin)
         h += legendBar(run.id + "-gain", false, logScale ? logTicks(gMin, gMax) : linearTicks(gMin, gMax),
-                       std::string("coverage gain of the probe (its marginal share of the surface the walk sees, in "
-                                   "placement order)") +
+                       std::string("predicted walk MAE the probe removed (after the probes placed before it)") +
                            (logScale ? ", log scale" : ""));
     h += "<p class=\"note\">Orthographic, from above";
     if (td.walk.size() > 1) h += "; red: the camera walk, squares where the frames above were taken";

@@ -1,7 +1,7 @@
 // probes.json, the hand-over from placement to bake:
 //   {"version": 1, "probes": [{"pos": [x, y, z]}, ...]}   (the model file's coordinates)
-// Placement adds fields (method, parameters, coverage report, each probe's "gain": the coverage it
-// added after the ones before it, in the order chosen); readers ignore what they do not know.
+// Placement adds fields (method, parameters, its report, each probe's "gain": the predicted walk MAE
+// it removed after the ones before it, in the order chosen); readers ignore what they do not know.
 #pragma once
 
 #include <filesystem>

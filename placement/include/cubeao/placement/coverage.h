@@ -57,10 +57,27 @@ struct SurfaceSample {
 // `seed`), each returned twice, once per side: samples 2i and 2i + 1 share a position. Deterministic.
 std::vector<SurfaceSample> sampleSurface(const Scene& scene, std::size_t points, std::uint32_t seed);
 
-// The relevant samples of a camera path: those inside some frame's view (within the far plane),
-// facing its eye, with nothing in between. At most `maxFrames` frames, evenly spread, are used.
+// How much of a camera path's images each sample fills: the mean over frames of the solid angle it
+// subtends (area · cos / distance², in the frame's view within the far plane, facing its eye, nothing
+// in between) as a share of the frame's. 0: no frame sees it (not relevant). At most `maxFrames` frames,
+// evenly spread, are used.
+std::vector<float> imageShareFromCamera(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                                        const CameraPath& path, std::size_t maxFrames = 240);
+// The samples imageShareFromCamera() finds a frame that sees (weight > 0).
 std::vector<std::uint8_t> relevantFromCamera(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
                                              const CameraPath& path, std::size_t maxFrames = 240);
+
+// A relevant sample a probe sees: its side faces the probe, nothing lies in between (Embree), and the
+// projection's texel area there (CoverageCriterion::footprint). The error model and every coverage
+// figure are derived from these.
+struct SampleView {
+    std::uint32_t sample;
+    float area;
+};
+// Every relevant sample (relevant[i] != 0) that a probe at `probe` sees, ascending by sample.
+std::vector<SampleView> visibleSamples(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                                       std::span<const std::uint8_t> relevant, const CoverageCriterion& criterion,
+                                       const glm::vec3& probe);
 
 // Whether a probe at `probe` covers sample s: in range, s faces it, the texel is small enough, and an
 // Embree ray finds nothing in between. The one test behind every coverage figure.

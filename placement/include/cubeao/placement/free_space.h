@@ -1,12 +1,20 @@
-// Free space and probe candidates (DESIGN.md §4 "Placement"): the scene's bounding box cut into
-// cubic voxels; a voxel is a candidate when its centre keeps `clearance` from every triangle and is
-// not inside a solid. Meshes from CAD and surveys are rarely closed, so "inside" is decided as DDGI
-// does: more than a quarter of the rays from the centre hit the back of a face. Where a part of the
-// mesh is a closed solid (a box, a pillar), CGAL's exact inside test decides as well.
+// Free space and probe candidates (DESIGN.md §4 "Placement", issue 31): the scene's bounding box cut
+// into cubic voxels. A voxel is *clear* when its centre keeps `clearance` from every triangle, and free
+// when it is reached from known-free seeds without crossing geometry: the walk's eyes, and the space
+// outside the box (a boundary voxel whose segment out of the box meets nothing). Reaching is a flood
+// over the six neighbours whose centre-to-centre segment no triangle cuts (an Embree ray), so it does
+// not depend on which way faces point: CAD exports and scans flip them, and a model with every face
+// reversed has the same free space as the original.
+// Clear voxels nobody reaches (a sealed room, the inside of a pillar or a thick wall) are decided by
+// sidedness, as a tie-break: DDGI's rule (more than a quarter of the rays from the centre meet the back
+// of a face: inside) and CGAL's exact test for closed outward components. The winding those read is
+// the one learned from reached space where it can be: a face that reached voxels see from its back is
+// reversed, and so is every unseen face of a connected component that is seen mostly from behind.
 #pragma once
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -42,8 +50,10 @@ class FreeSpace {
 public:
     static constexpr int kInsideRays = 32;  // rays per point for the back-face rule
 
-    // `clearance` 0 → half a voxel.
-    FreeSpace(const Scene& scene, const EmbreeScene& embree, float voxel, float clearance);
+    // `clearance` 0 → half a voxel. `seeds`: points known to be free (the walk's eyes); each seeds the
+    // clear voxel nearest it among those around it that it sees, or none (stats().seedsNotFree).
+    FreeSpace(const Scene& scene, const EmbreeScene& embree, float voxel, float clearance,
+              std::span<const glm::vec3> seeds = {});
     ~FreeSpace();
     FreeSpace(const FreeSpace&) = delete;
     FreeSpace& operator=(const FreeSpace&) = delete;
@@ -56,20 +66,30 @@ public:
     std::int32_t candidateOf(std::size_t voxelIndex) const { return candidateOf_[voxelIndex]; }
     glm::vec3 candidatePosition(std::size_t candidate) const { return grid_.center(candidates_[candidate]); }
 
-    // What a point is, tested in this order (the first that applies).
+    // What a point is, tested in this order (the first that applies): outside the box, too close to
+    // geometry, free (its voxel is reached and p sees the voxel's centre), and for the rest the
+    // sidedness tie-break: inside a closed solid, inside by the rays, else free.
     enum class Verdict : std::uint8_t { Free, Outside, TooClose, InsideClosed, InsideByRays };
     Verdict classify(const glm::vec3& p) const;
-    // The test of the voxels at any point (the grid method's lattice): inside the box, clear of
-    // geometry by `clearance`, not inside a solid.
+    // The test of the voxels at any point (the grid method's lattice, a probe set's check).
     bool isFree(const glm::vec3& p) const { return classify(p) == Verdict::Free; }
     float distanceToSurface(const glm::vec3& p) const;
-    // Share of kInsideRays rays from p that hit the back of a face (> 0.25: inside).
+    // Share of kInsideRays rays from p that hit the back of a face, with the winding learned from
+    // reached space (> 0.25: inside).
     float backFaceShare(const glm::vec3& p) const;
     bool insideClosedSolid(const glm::vec3& p) const;
+    // Whether the flood from the seeds reached voxel `voxelIndex`.
+    bool reached(std::size_t voxelIndex) const { return reached_[voxelIndex] != 0; }
 
     struct Stats {
         std::size_t voxels = 0, candidates = 0, tooClose = 0, insideByRays = 0, insideClosed = 0, outside = 0;
         std::size_t closedSolids = 0, closedRooms = 0, openComponents = 0;
+        std::size_t reached = 0;         // candidates the flood reached (the rest are free by the tie-break)
+        std::size_t seeds = 0, seedsNotFree = 0;  // given seeds that seeded a voxel, and those that did not
+        std::size_t outsideSeeds = 0;    // boundary voxels open to the outside of the box
+        std::size_t reversedFaces = 0;   // triangles whose winding reached space reads as reversed
+        bool roomiestSeed = false;       // no seed and nothing open to the outside: the clear voxel
+                                         // farthest from geometry seeded the flood (a sealed model)
     };
     const Stats& stats() const { return stats_; }
 
@@ -81,7 +101,21 @@ private:
     float clearance_ = 0.0f;
     std::vector<std::uint32_t> candidates_;
     std::vector<std::int32_t> candidateOf_;
+    std::vector<std::uint8_t> reached_;   // per voxel
+    std::vector<std::uint8_t> reversed_;  // per triangle: 1 where the learned winding is the scene's reversed
     Stats stats_;
+
+    // The flood (free_space.cpp): which neighbours' segments are open, the voxels the seeds and the
+    // outside start from, the breadth-first spread over open segments, and the sidedness tie-break of
+    // the clear voxels left.
+    std::vector<std::uint16_t> openSides(const std::vector<std::uint8_t>& clear) const;
+    std::vector<std::size_t> seedVoxels(const std::vector<std::uint8_t>& clear, const std::vector<std::uint16_t>& open,
+                                        std::span<const glm::vec3> seeds);
+    void spread(const std::vector<std::uint16_t>& open, const std::vector<std::size_t>& starts);
+    void decideUnreached(const std::vector<std::uint8_t>& clear, std::vector<Verdict>& verdict);
+    void learnWinding();
+    // Whether a ray along `dir` meets the back of triangle `primitive` (geometric normal `normal`).
+    bool backHit(const glm::vec3& dir, const glm::vec3& normal, unsigned primitive) const;
 };
 
 }  // namespace cubeao::placement

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,7 @@
 
 #include "cubeao/core/camera.h"
 #include "cubeao/placement/coverage.h"
+#include "cubeao/placement/error_model.h"
 #include "cubeao/placement/free_space.h"
 
 namespace cubeao {
@@ -42,8 +44,11 @@ struct PlaceSettings {
     float clearance = 0.0f;        // 0 → half a voxel
     std::size_t samples = 12000;   // surface points (two samples each)
     int votingRays = 24;           // rays per relevant sample
-    double target = 0.95;          // coverage to reach (1 = as much as the budget allows)
-    int budget = 0;                // most probes; 0 = no limit
+    double target = 0.95;          // grid and coverage: coverage to reach (1 = as much as the budget allows)
+    int budget = 0;                // voting: exactly this many probes (fewer only when no probe lowers the
+                                   // expected error); grid: at most; 0 = no limit
+    float targetError = 0.0f;      // voting: stop once the predicted walk MAE is at most this; 0 = automatic
+                                   // (stop where the next probe would remove under kAutomaticStop of it)
     std::uint32_t seed = 0;
 
     // Throws UsageError naming the bad value.
@@ -68,15 +73,29 @@ public:
     const CoverageCriterion& criterion() const { return criterion_; }
     const std::vector<SurfaceSample>& samples() const { return samples_; }
     const std::vector<std::uint8_t>& relevant() const { return relevant_; }
+    // How much each sample weighs in the predicted MAE: the share of the walk's images it fills, or
+    // without a walk its area where free space sees it; 0 when not relevant.
+    const std::vector<float>& weights() const { return weights_; }
+    const ErrorModel& errorModel() const { return errorModel_; }
     bool hasCamera() const { return hasCamera_; }
+    // The walk's eyes (empty without a camera): known free space, and probe sites of their own.
+    const std::vector<glm::vec3>& eyes() const { return eyes_; }
 
     std::vector<std::uint32_t> covered(const glm::vec3& probe) const;
+    // The relevant samples a probe at `probe` sees, with the texel area it gives each.
+    std::vector<SampleView> views(const glm::vec3& probe) const;
+    // Expected AO error of sample view v (ErrorModel::expected at the scene's radius).
+    float expectedError(float area) const { return errorModel_.expected(area, settings_.radius); }
 
-    // Voters per candidate (CSR: candidate c's samples are voters[offsets[c] .. offsets[c + 1])), and
-    // the quality-weighted vote of each candidate (Σ area / footprint). Cast on first use.
+    // Voters per candidate (CSR: candidate c's samples are voters[offsets[c] .. offsets[c + 1])), the
+    // quality-weighted vote of each candidate (Σ area / footprint), and per vote the texel area and
+    // the inverse of the chance that the sample's rays found that voxel (its solid angle against the
+    // rays' cosine density), so that Σ scale · f(sample) over a candidate's voters estimates Σ f over
+    // every sample it sees. Cast on first use.
     struct Votes {
         std::vector<std::uint64_t> offsets;
         std::vector<std::uint32_t> voters;
+        std::vector<float> area, scale;  // per vote, beside voters
         std::vector<float> weight;
         std::size_t rays = 0;
     };
@@ -93,6 +112,9 @@ private:
     std::unique_ptr<FreeSpace> freeSpace_;
     std::vector<SurfaceSample> samples_;
     std::vector<std::uint8_t> relevant_;
+    std::vector<float> weights_;
+    ErrorModel errorModel_;
+    std::vector<glm::vec3> eyes_;
     bool hasCamera_ = false;
     mutable std::optional<Votes> votes_;
     mutable std::vector<std::pair<std::string, double>> timings_;
@@ -102,18 +124,55 @@ struct PlacedProbe {
     glm::vec3 position{0.0f};
     double gain = 0.0;   // coverage this probe added after the ones before it
     double gain2 = 0.0;  // the same for coverage2
+    double errorRemoved = 0.0;  // predicted walk MAE this probe removed after the ones before it
 };
 
 struct Placement {
     std::string method;
     std::vector<PlacedProbe> probes;
+    // coverage / coverage2: the fine coverage (a texel at most R / texels-per-radius), once and twice.
     double coverage = 0.0, coverage2 = 0.0, relevantArea = 0.0;
+    double predictedMae = 0.0;  // the error model's walk MAE (image-weighted; unserved samples at the fallback)
+    double served = 0.0;        // relevant area some probe sees (the projection's "covered")
+    std::string stop;           // why the method stopped adding probes (voting)
     std::vector<std::pair<std::string, double>> timings;  // seconds per stage
     std::vector<std::pair<std::string, double>> figures;  // method-specific numbers (grid spacing, ...)
 };
 
+// The predicted walk MAE of a probe set as probes join it: every relevant sample at the error of the
+// best probe that sees it (the projection ranks by texel area, and the error model grows with it),
+// the fallback's where none does, weighted by PlacementScene::weights().
+class ExpectedError {
+public:
+    explicit ExpectedError(const PlacementScene& ps);
+    // What adding a probe with these views would remove from mae().
+    double gain(std::span<const SampleView> views) const;
+    void add(std::span<const SampleView> views);
+    double mae() const;
+    float current(std::uint32_t sample) const { return current_[sample]; }
+
+private:
+    const PlacementScene& ps_;
+    std::vector<float> current_;
+    double totalWeight_ = 0.0, weighted_ = 0.0;
+};
+
 // The coverage report of given probes, in their order (path, coverage feedback, any probes.json).
 Placement evaluate(const PlacementScene& ps, const std::vector<glm::vec3>& probes, std::string method);
+
+// The parts of a probe set's predicted MAE, each a share of the relevant samples' weight (image share
+// along a walk): served (some probe sees the sample), texel (Σ weight · sqrt(texel area) / R of its best
+// probe, over the served), unserved, and capped (served, but at the fallback's error already). Without
+// the cap, predicted MAE = floor · served + slope · texel + fallback · unserved: linear in the model's
+// constants, which is how tools/calibrate_error.sh fits them to measured walks.
+struct ErrorTerms {
+    double served = 0.0, texel = 0.0, unserved = 0.0, capped = 0.0;
+};
+ErrorTerms errorTerms(const PlacementScene& ps, const std::vector<glm::vec3>& probes);
+
+// The automatic stop of voting without --budget or --target-error: the next probe would lower the
+// predicted MAE by less than this share of it.
+inline constexpr double kAutomaticStop = 0.02;
 
 Placement placeVoting(const PlacementScene& ps, Progress* progress = nullptr);
 Placement placeGrid(const PlacementScene& ps, Progress* progress = nullptr);
