@@ -119,6 +119,20 @@ TEST(Cli, PlaceAlongThePathWritesAProbeSetBakeReads) {
     EXPECT_EQ(run("place builtin:box-room --method path --budget 0 --out " + probes.string()).code, 2);
     EXPECT_EQ(run("place builtin:box-room --coverage-target 1.5 --out " + probes.string()).code, 2);
     EXPECT_EQ(run("place builtin:box-room --budget -1 --out " + probes.string()).code, 2);
+    EXPECT_EQ(run("place builtin:box-room --target-error -0.1 --out " + probes.string()).code, 2);
+    // The reports name what they are (issue 31): the predicted walk MAE, the served share, the fine coverage.
+    const nlohmann::json path = lastLine(r.out);
+    EXPECT_GT(path["predicted_mae"].get<double>(), 0.0);
+    EXPECT_GE(path["served"].get<double>(), path["coverage"].get<double>());
+    const CliRun check = run("info builtin:box-room --probes " + probes.string() + " --camera builtin:box-room --json");
+    ASSERT_EQ(check.code, 0) << check.out;
+    EXPECT_NEAR(lastLine(check.out)["probe_check"]["predicted_mae"].get<double>(), path["predicted_mae"].get<double>(),
+                1e-9) << "info --probes predicts what place reported for the same probes";
+    // A target error screen space alone meets: nothing to place, and the error says why.
+    const CliRun target = run("place builtin:box-room --camera builtin:box-room --target-error 0.5 --samples 2000 --out " +
+                              probes.string(), /*withStderr=*/true);
+    EXPECT_EQ(target.code, 1) << target.out;
+    EXPECT_NE(target.out.find("is met without any probe"), std::string::npos) << target.out;
     // A missing directory is made; one that cannot be (a file in the way) fails before any work.
     const fs::path nested = dir.path() / "a" / "b" / "probes.json";
     EXPECT_EQ(run("place builtin:box-room --method path --budget 2 --out " + nested.string()).code, 0);

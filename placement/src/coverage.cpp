@@ -1,6 +1,7 @@
 #include "cubeao/placement/coverage.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -43,8 +44,14 @@ std::vector<SurfaceSample> sampleSurface(const Scene& scene, std::size_t points,
         const double u = (double(i) + double(sampling::toUnitFloat(key))) / double(points) * total;
         const std::size_t t = std::min<std::size_t>(
             std::size_t(std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin()), triangles - 1);
-        const glm::vec3 a = scene.positions[scene.indices[3 * t]], b = scene.positions[scene.indices[3 * t + 1]],
-                        c = scene.positions[scene.indices[3 * t + 2]];
+        // The corners in a fixed order (by position), not the winding's: a model with faces reversed is
+        // sampled at the same points with the same two sides in the same order (issue 31).
+        std::array<glm::vec3, 3> corner{scene.positions[scene.indices[3 * t]], scene.positions[scene.indices[3 * t + 1]],
+                                        scene.positions[scene.indices[3 * t + 2]]};
+        std::sort(corner.begin(), corner.end(), [](const glm::vec3& l, const glm::vec3& r) {
+            return l.x != r.x ? l.x < r.x : l.y != r.y ? l.y < r.y : l.z < r.z;
+        });
+        const auto& [a, b, c] = corner;
         // Uniform in the triangle: the square-root map of two hashed numbers.
         const float r1 = std::sqrt(sampling::toUnitFloat(sampling::hash32(key ^ 0x68E31DA4u)));
         const float r2 = sampling::toUnitFloat(sampling::hash32(key ^ 0xB5297A4Du));

@@ -92,7 +92,12 @@ CoverageFeedback::FrameResult CoverageFeedback::addFrame(const PinholeCamera& ca
             if (voters > bestVoters || (voters == bestVoters && voters > 0 && votes.weight[c] > votes.weight[best]))
                 best = c, bestVoters = voters;
         }
-        if (bestVoters == 0) break;  // nothing free sees what is missing
+        if (bestVoters == 0) {
+            r.stalled = ps_.freeSpace().candidates().empty()
+                            ? "no free space: no voxel is reached from the camera or the outside"
+                            : "no free voxel sees the uncovered pixels with a small enough texel";
+            break;
+        }
         const glm::vec3 probe = ps_.freeSpace().candidatePosition(best);
         std::size_t gained = 0;
         for (std::size_t i = 0; i < covered.size(); ++i)
@@ -100,7 +105,10 @@ CoverageFeedback::FrameResult CoverageFeedback::addFrame(const PinholeCamera& ca
                 covered[i] = 1;
                 ++gained;
             }
-        if (gained == 0) break;  // the votes' voxel centre is hidden from every voter: stop for this frame
+        if (gained == 0) {  // the votes' voxel centre is hidden from every voter: stop for this frame
+            r.stalled = "the voxel the uncovered pixels voted for is hidden from them";
+            break;
+        }
         probes_.push_back(probe);
         ++r.added;
         r.after = coveredShare(covered);

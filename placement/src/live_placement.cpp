@@ -150,6 +150,7 @@ struct LivePlacement::Impl {
     void handled(const std::vector<CoverageFeedback::FrameResult>& results) {
         for (const CoverageFeedback::FrameResult& r : results) {
             stats.coverage = r.after;
+            stats.stalled = r.added == 0 ? r.stalled : nullptr;
             ++stats.framesCounted;
         }
         takeNewProbes();

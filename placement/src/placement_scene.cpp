@@ -6,10 +6,13 @@
 #include <string>
 
 #include <nlohmann/json.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "cubeao/core/error.h"
 #include "cubeao/core/stopwatch.h"
 #include "cubeao/placement/placement.h"
+#include "cubeao/core/sampling.h"
 #include "cubeao/reference/embree_scene.h"
 #include "cubeao/scene/scene.h"
 #include "votes.h"
@@ -44,7 +47,8 @@ nlohmann::json PlaceSettings::toJson() const {
             {"target_error", targetError}, {"seed", seed}};
 }
 
-PlacementScene::PlacementScene(const Scene& scene, const PlaceSettings& settings, const CameraPath* camera)
+PlacementScene::PlacementScene(const Scene& scene, const PlaceSettings& settings, const CameraPath* camera,
+                               std::span<const glm::vec3> seeds)
     : scene_(scene), settings_(settings), hasCamera_(camera != nullptr) {
     settings_.validate();
     if (scene.triangleCount() == 0) throw Error("placement: " + scene.source + " has no triangles");
@@ -76,7 +80,9 @@ PlacementScene::PlacementScene(const Scene& scene, const PlaceSettings& settings
     // The walk's eyes are known to be free: they seed the flood of free space (free_space.h).
     if (camera)
         for (const CameraFrame& f : camera->frames) eyes_.push_back(f.eye);
-    freeSpace_ = std::make_unique<FreeSpace>(scene, *embree_, settings_.voxel, settings_.clearance, eyes_);
+    std::vector<glm::vec3> known = eyes_;
+    known.insert(known.end(), seeds.begin(), seeds.end());
+    freeSpace_ = std::make_unique<FreeSpace>(scene, *embree_, settings_.voxel, settings_.clearance, known);
     if (camera && !eyes_.empty() && freeSpace_->stats().seeds == 0)
         throw Error("placement: " + scene.source + ": none of the walk's " + std::to_string(eyes_.size()) +
                     " eyes stands in free space (each is within --clearance " + std::to_string(freeSpace_->clearance()) +
@@ -105,6 +111,28 @@ PlacementScene::PlacementScene(const Scene& scene, const PlaceSettings& settings
             if (relevant_[i]) weights_[i] = samples_[i].area;
         timings_.emplace_back("relevance_and_votes", watch.restart());
     }
+    // Each relevant sample's occlusion and the mean distance of what occludes it (R when nothing does),
+    // from cosine-distributed rays as the reference casts them: the AO's scale of variation there.
+    occlusion_.assign(samples_.size(), 0.0f);
+    occluderDistance_.assign(samples_.size(), settings_.radius);
+    const float eps = embree_->surfaceEpsilon(), radius = settings_.radius;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples_.size(), 64), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            if (!relevant_[i]) continue;
+            const SurfaceSample& s = samples_[i];
+            const glm::vec3 origin = s.position + eps * s.normal;
+            int hits = 0;
+            double distance = 0.0;
+            for (int k = 0; k < kOcclusionRays; ++k) {
+                const glm::vec2 u = sampling::rotatedHammersley(std::uint32_t(k), kOcclusionRays, std::uint32_t(i));
+                const RayHit h = embree_->intersect(origin, sampling::cosineHemisphere(u, s.normal), 0.0f, radius);
+                if (h.hit) ++hits, distance += h.t;
+            }
+            occlusion_[i] = float(hits) / float(kOcclusionRays);
+            if (hits > 0) occluderDistance_[i] = std::max(float(distance / hits), 1e-3f * radius);
+        }
+    });
+    timings_.emplace_back("occlusion", watch.restart());
 }
 
 PlacementScene::~PlacementScene() = default;
@@ -167,20 +195,19 @@ Placement evaluate(const PlacementScene& ps, const std::vector<glm::vec3>& probe
 }
 
 ExpectedError::ExpectedError(const PlacementScene& ps) : ps_(ps), current_(ps.samples().size(), 0.0f) {
-    const float fallback = ps.errorModel().fallback;
     for (std::size_t i = 0; i < current_.size(); ++i) {
         const double w = ps.weights()[i];
         if (!(w > 0.0)) continue;
-        current_[i] = fallback;
+        current_[i] = ps.expectedError(std::uint32_t(i), INFINITY);
         totalWeight_ += w;
-        weighted_ += w * fallback;
+        weighted_ += w * current_[i];
     }
 }
 
 double ExpectedError::gain(std::span<const SampleView> views) const {
     double g = 0.0;
     for (const SampleView& v : views) {
-        const float e = ps_.expectedError(v.area);
+        const float e = ps_.expectedError(v.sample, v.area);
         if (e < current_[v.sample]) g += double(ps_.weights()[v.sample]) * double(current_[v.sample] - e);
     }
     return totalWeight_ > 0.0 ? g / totalWeight_ : 0.0;
@@ -188,7 +215,7 @@ double ExpectedError::gain(std::span<const SampleView> views) const {
 
 void ExpectedError::add(std::span<const SampleView> views) {
     for (const SampleView& v : views) {
-        const float e = ps_.expectedError(v.area);
+        const float e = ps_.expectedError(v.sample, v.area);
         if (e < current_[v.sample]) {
             weighted_ -= double(ps_.weights()[v.sample]) * double(current_[v.sample] - e);
             current_[v.sample] = e;
@@ -204,18 +231,24 @@ ErrorTerms errorTerms(const PlacementScene& ps, const std::vector<glm::vec3>& pr
     double total = 0.0;
     const float radius = ps.settings().radius;
     for (std::size_t i = 0; i < best.size(); ++i) {
-        const double w = ps.weights()[i];
+        const double w = ps.weights()[i], o = ps.occlusion()[i];
         if (!(w > 0.0)) continue;
         total += w;
         if (!(best[i] < INFINITY)) {
             t.unserved += w;
+            t.unservedOccluded += w * o;
             continue;
         }
         t.served += w;
-        t.texel += w * std::sqrt(double(best[i])) / double(radius);
-        if (ps.expectedError(best[i]) >= ps.errorModel().fallback) t.capped += w;
+        t.occluded += w * o;
+        t.texel += w * o * std::sqrt(double(best[i])) / double(radius);
+        t.texelNear += w * o * std::sqrt(double(best[i])) / double(ps.occluderDistance()[i]);
+        const auto sample = std::uint32_t(i);
+        if (ps.expectedError(sample, best[i]) >= ps.expectedError(sample, INFINITY)) t.capped += w;
     }
-    if (total > 0.0) t.served /= total, t.texel /= total, t.unserved /= total, t.capped /= total;
+    if (total > 0.0)
+        for (double* x : {&t.served, &t.occluded, &t.texel, &t.texelNear, &t.unserved, &t.unservedOccluded, &t.capped})
+            *x /= total;
     return t;
 }
 

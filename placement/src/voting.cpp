@@ -186,7 +186,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
         double g = 0.0;
         for (std::uint64_t v = votes.offsets[std::size_t(c)]; v < votes.offsets[std::size_t(c) + 1]; ++v) {
             const std::uint32_t s = votes.voters[v];
-            const float e = ps.expectedError(votes.area[v]);
+            const float e = ps.expectedError(s, votes.area[v]);
             if (e < error.current(s)) g += double(votes.scale[v]) * double(ps.weights()[s]) * double(error.current(s) - e);
         }
         return totalWeight > 0.0 ? g / totalWeight : 0.0;

@@ -171,6 +171,7 @@ private:
 
     // Live placement: the placement scene is built on first use (Embree, free space: seconds).
     std::unique_ptr<placement::PlacementScene> placementScene_;
+    const char* lastStalled_ = nullptr;  // live placement's last logged reason for not placing
     std::unique_ptr<placement::LivePlacement> live_;
     // Probes of the opened cache that live placement found damaged when adopting them, and left out
     // (the pass counts the ones it finds itself: ResidencyStats::damaged).
@@ -370,7 +371,10 @@ void Viewer::startLive() {
         ps.res = liveBake(Estimator::HorizonSplit).res;
         ps.texelsPerRadius = placement::PlaceSettings{}.texelsPerRadius * float(ps.res) / 512.0f;
         ps.target = o_.coverageTarget;
-        placementScene_ = std::make_unique<placement::PlacementScene>(scene_, ps, path_ ? &*path_ : nullptr);
+        // Where the person stands is free, whichever way the model's faces point (issue 31).
+        const glm::vec3 here = camera_.eye;
+        placementScene_ = std::make_unique<placement::PlacementScene>(scene_, ps, path_ ? &*path_ : nullptr,
+                                                                      std::span(&here, 1));
         placement::LiveSettings ls;
         ls.bakeMsPerFrame = o_.bakeMsPerFrame;
         ls.nearPlane = camera_.nearPlane;
@@ -629,6 +633,10 @@ void Viewer::renderFrame() {
     if (pass && liveOn_ && live_) {
         const bool idle = forcedIdle_ > 0 || (script_.empty() && idleFrames_ > 60 && !playing_);
         live_->frame(pinhole, idle, *pass);
+        // Say once, when it changes, why live placement cannot place (issue 31: never silently GTAO).
+        const char* stalled = live_->stats().stalled;
+        if (stalled && stalled != lastStalled_) spdlog::warn("cubeao-view: live placement cannot place: {}", stalled);
+        lastStalled_ = stalled;
     }
     if (forcedIdle_ > 0) --forcedIdle_;
     const bool needsDiagnostics = mode_ == ViewMode::ProbeId || mode_ == ViewMode::Footprint ||
@@ -890,6 +898,7 @@ void Viewer::drawPanel() {
         ImGui::Text("coverage (target %.0f %%)", 100.0 * o_.coverageTarget);
         ImGui::Text("placed %zu · baked %zu · re-baked %zu · queued %zu", s.placed, s.baked, s.rebaked, s.queued);
         ImGui::Text("bake %.1f ms/frame (budget %.1f)", s.bakeMsMean, o_.bakeMsPerFrame);
+        if (s.stalled) ImGui::TextColored(ImVec4(1.0f, 0.6f, 0.2f, 1.0f), "cannot place: %s", s.stalled);
     }
     if (ImGui::Button("save (Ctrl+S)")) save(defaultSavePath());
 

@@ -46,8 +46,8 @@ bool isCache(const std::string& target) {
 
 // The prediction's parts, for fitting the error model to measured walks (tools/calibrate_error.sh).
 nlohmann::json errorTermsJson(const placement::ErrorTerms& t) {
-    return {{"served_weight", t.served}, {"texel_term", t.texel}, {"unserved_weight", t.unserved},
-            {"capped_weight", t.capped}};
+    return {{"served_weight", t.served}, {"occluded_term", t.occluded}, {"texel_term", t.texel}, {"texel_near_term", t.texelNear},
+            {"unserved_weight", t.unserved}, {"unserved_occluded", t.unservedOccluded}, {"capped_weight", t.capped}};
 }
 
 // `info SCENE --probes P.json [--camera WALK]`: where the probes of P stand and what they are predicted

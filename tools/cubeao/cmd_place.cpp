@@ -33,7 +33,7 @@ struct PlaceArgs {
 std::string stopReason(const std::string& stop) {
     if (stop == "budget") return "; the budget";
     if (stop == "target_error") return "; --target-error reached";
-    if (stop == "automatic") return "; the next probe would remove under 2 % of the predicted error";
+    if (stop == "automatic") return "; the next probe would remove under 1.5 % of the predicted error";
     if (stop == "no_gain") return "; no further probe lowers the predicted error (fewer than --budget)";
     return "";
 }
@@ -97,6 +97,10 @@ void run(PlaceArgs a) {
             positions.push_back(p.position);
         result = placement::evaluate(ps, positions, "path");
     }
+    if (result.probes.empty() && result.stop == "target_error")
+        throw Error("place --method voting: --target-error " + std::to_string(a.settings.targetError) +
+                    " is met without any probe (screen space alone is predicted at " +
+                    std::to_string(result.predictedMae) + "): nothing to place; lower it");
     if (result.probes.empty()) {
         // Say which of the usual causes applies: no free space at all (a closed solid, or faces whose
         // winding flips, which the back-face inside test reads as inside), or free space farther from
@@ -188,7 +192,7 @@ void addPlace(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--target-error", s.targetError,
                     "voting: stop once the predicted walk MAE is at most this (0: stop where the next probe "
-                    "removes under 2 % of it)")
+                    "removes under 1.5 % of it)")
         ->capture_default_str();
     cmd->add_option("--voxel", s.voxel, "Candidate voxel edge (0: ~150k voxels in the box)")->capture_default_str();
     cmd->add_option("--clearance", s.clearance, "Least distance from a probe to geometry (0: half a voxel)")

@@ -54,7 +54,8 @@ struct SurfaceSample {
 };
 
 // `points` area-uniform points (stratified along the cumulative area of the triangles, jittered by
-// `seed`), each returned twice, once per side: samples 2i and 2i + 1 share a position. Deterministic.
+// `seed`), each returned twice, once per side: samples 2i and 2i + 1 share a position. Deterministic, and
+// the same whichever way the faces are wound (each triangle's corners are taken in order of position).
 std::vector<SurfaceSample> sampleSurface(const Scene& scene, std::size_t points, std::uint32_t seed);
 
 // How much of a camera path's images each sample fills: the mean over frames of the solid angle it

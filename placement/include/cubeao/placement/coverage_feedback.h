@@ -39,6 +39,10 @@ public:
     struct FrameResult {
         double before = 1.0, after = 1.0;  // covered share of the frame's surface pixels
         int added = 0;
+        // Why the frame stays below the target with no probe added for it (a static string; null when
+        // it reached the target or gained a probe): no free space at all, nothing free sees what is
+        // uncovered, or the voted voxel is hidden from every pixel that voted.
+        const char* stalled = nullptr;
     };
     FrameResult addFrame(const PinholeCamera& camera);
 

@@ -5,19 +5,26 @@
 // The projection ranks the probes that see a point by the area one of their texels spans there
 // (shaders/common/texel_area.h probeTexelArea: distance, off-centre and incidence in one number) and
 // blends the best two; the AO it reads is the texel's, taken at the texel's own surface point and
-// filtered over its neighbours, and the depth test that decides "sees" reads a distance cube a quarter
-// of that resolution. Both errors grow with the texel's side on the surface against the AO radius:
-//     expected(s, p) = min(fallback, floor + slope · sqrt(area(s, p)) / R),
-// and a sample no probe sees takes the screen-space fallback's error.
+// filtered over its neighbours. Where nothing lies within R the AO is 1 whatever the texel (a probe and
+// GTAO both get it right); near an occluder AO changes over about the occluder's distance. So, with
+// o = 1 − AO at the sample and L the mean distance of what occludes it (placement traces both with
+// Embree), s = sqrt(texel area):
+//     expected(s, o, L) = min(fallback(o), o · (occluded + slope · s / L)),
+//     fallback(o)       = screen · o      (a sample no probe sees: the screen-space fallback's error).
+// occluded carries what no texel size removes (the bake's and the reference's ray noise, the blend of
+// two probes, the depth test at silhouettes), slope the error per texel side over the AO's own scale.
 //
-// Calibration: tools/calibrate_error.sh bakes probe sets of 6–24 probes (along the walk and voting)
-// traced at 128² and 512² with 64 rays, renders the shared walks and compares them with a 512-ray
-// reference; tools/fit_error_model.py fits the constants by least squares (the prediction is linear
-// in them). What they mean:
-// - floor: the error of a probe texel small against every AO feature (the rays' noise after the
-//   bake's filter, the reference's own noise, the depth test at silhouettes);
-// - slope: the error per texel side in units of R (AO varies over about R near creases);
-// - fallback: GTAO's walk MAE on the shared walks (0.068–0.10), what an unserved pixel shows.
+// Calibration (tools/calibrate_error.sh, tools/fit_error_model.py; table in docs/BENCHMARKS.md
+// "Placement by predicted error", 2026-12-04): 24 probe sets (the walk's eyes and voting, 6, 12 and 24
+// probes) baked traced at 128² and 512² with 64 rays, both shared walks rendered at 320×180 and
+// compared with a 512-ray reference; occluded and slope minimise the relative squared miss of the
+// predicted walk MAE (the prediction is linear in them): rms 22 %, worst 34 %, and the misses are by
+// walk: Sibenik's MAE is under-predicted (×0.66–0.93), FZK-Haus's over (×1.08–1.22), so something
+// per building is still missing (the reference's own noise is 0.0039 against 0.0026 RMS). screen =
+// GTAO's walk MAE over the walks' mean occlusion.
+// Tried and not kept: a constant floor (it and the occlusion term cannot be told apart with two walks;
+// the fit makes it negative), and the texel side over R instead of over L (worst 46 %: the texel term
+// is 1.8× steeper on Sibenik than on FZK-Haus measured against R, and the same against L).
 #pragma once
 
 #include <algorithm>
@@ -26,19 +33,19 @@
 namespace cubeao::placement {
 
 struct ErrorModel {
-    float floor = 0.0095f;
-    float slope = 0.30f;
-    float fallback = 0.08f;
+    float occluded = 0.0357f;
+    float slope = 0.2156f;
+    float screen = 0.384f;
 
-    // Expected AO error at a sample whose best probe gives texel area `area` (world units², +inf when
-    // none sees it) for AO radius `radius`.
-    float expected(float area, float radius) const {
-        if (!(area < INFINITY)) return fallback;
-        return std::min(fallback, floor + slope * std::sqrt(area) / radius);
+    float fallback(float occlusion) const { return screen * occlusion; }
+    // Expected AO error at a sample with occlusion `occlusion` (1 − AO, in [0, 1]) and occluders at mean
+    // distance `occluderDistance` (> 0), whose best probe gives texel area `area` (world units², +inf
+    // when none sees it).
+    float expected(float area, float occluderDistance, float occlusion) const {
+        const float worst = fallback(occlusion);
+        if (!(area < INFINITY)) return worst;
+        return std::min(worst, occlusion * (occluded + slope * std::sqrt(area) / occluderDistance));
     }
-    // The texel side beyond which a probe is no better than the fallback: candidates farther than that
-    // cannot help, which bounds the search.
-    float usefulTexel(float radius) const { return radius * std::max(fallback - floor, 0.0f) / slope; }
 };
 
 }  // namespace cubeao::placement

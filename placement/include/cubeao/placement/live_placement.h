@@ -115,6 +115,8 @@ public:
         std::size_t inPass = 0;   // probes this object has in the pass (adopted ones included)
         std::size_t framesCounted = 0;  // coverage counts handled
         double coverage = 1.0;    // covered share of the newest counted frame, after the probes it placed
+        const char* stalled = nullptr;  // why the newest counted frame below the target got no probe (null: it
+                                        // did not stall; coverage_feedback.h FrameResult::stalled)
         double bakeMsLastFrame = 0.0;  // wall ms of the bake steps issued in the last frame()
         double bakeMsMean = 0.0;       // the same, mean over every frame() so far
         double stepMsMax = 0.0;        // the longest single step so far (what one frame may overrun by)
