@@ -9,7 +9,8 @@
 #   bash tools/bench_place_default.sh [sibenik|fzk-haus ...]
 #
 # Prints one row per run: probes, predicted MAE, measured MAE, flicker, and the MAE against the path set
-# of one probe per 10 frames. Env: BIN (build/cubeao), FRAMES/W/H as calibrate_error.sh.
+# of one probe per 10 frames. Env: BIN (build/cubeao), FRAMES/W/H as calibrate_error.sh; NO_WALK= and
+# REVERSED= (empty) skip the runs without the walk (the longest) and the reversed models.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 shared=${CUBEAO_SHARED_DIR:-../shared}
@@ -78,11 +79,11 @@ PY
 )
     echo "== $which: path set of 12 (one probe per 10 frames) at 512²: MAE $pathMae"
     run default "$scene" "$out" --camera "$walk"
-    run no-walk "$scene" "$out"
-    if [ "$which" = sibenik ]; then
+    if [ "$which" = sibenik ] && [ -n "${REVERSED:-1}" ]; then
         for mode in all half; do
             reversed "$scene" "$out/sibenik-$mode.obj" "$mode"
             run "reversed-$mode" "$out/sibenik-$mode.obj" "$out" --camera "$walk"
         done
     fi
+    if [ -n "${NO_WALK:-1}" ]; then run no-walk "$scene" "$out"; fi
 done
