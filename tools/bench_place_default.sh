@@ -79,11 +79,11 @@ PY
 )
     echo "== $which: path set of 12 (one probe per 10 frames) at 512²: MAE $pathMae"
     run default "$scene" "$out" --camera "$walk"
-    if [ "$which" = sibenik ] && [ -n "${REVERSED:-1}" ]; then
+    if [ "$which" = sibenik ] && [ -n "${REVERSED-1}" ]; then
         for mode in all half; do
             reversed "$scene" "$out/sibenik-$mode.obj" "$mode"
             run "reversed-$mode" "$out/sibenik-$mode.obj" "$out" --camera "$walk"
         done
     fi
-    if [ -n "${NO_WALK:-1}" ]; then run no-walk "$scene" "$out"; fi
+    if [ -n "${NO_WALK-1}" ]; then run no-walk "$scene" "$out"; fi
 done
