@@ -23,6 +23,7 @@
 #include "cubeao/core/image.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/placement/coverage_feedback.h"
+#include "cubeao/placement/error_feedback.h"
 #include "cubeao/placement/live_placement.h"
 #include "cubeao/placement/placement.h"
 #include "cubeao/reference/embree_scene.h"
@@ -312,6 +313,7 @@ TEST_F(LivePlacementGl, BoxRoomWalkFromNoProbesReachesTargetAndSavesAVerifiedCac
     live.bakeMsPerFrame = 20.0;
     live.idleFramesBeforeRebake = 5;
     live.nearPlane = path.nearPlane;
+    live.objective = LiveSettings::Objective::Coverage;  // the target this test checks
     LivePlacement placement(ps, fast, traced, live);
     const CacheParams params = placement.cacheParams();
     EXPECT_EQ(params.estimator, std::uint8_t(Estimator::HorizonSplit));
@@ -436,6 +438,46 @@ TEST_F(LivePlacementGl, BoxRoomWalkFromNoProbesReachesTargetAndSavesAVerifiedCac
         EXPECT_EQ(a.aoConfidence, b.aoConfidence) << i;
         EXPECT_EQ(a.depth, b.depth) << i;
     }
+}
+
+// With the error objective (the default) the viewer's live placement places, frame by frame, exactly
+// what ErrorFeedback places over the same counted frames (the twin `place --method live` runs), and
+// bakes them all.
+TEST_F(LivePlacementGl, ErrorObjectivePlacesWhatTheOfflineTwinPlaces) {
+    const Scene scene = loadScene("builtin:box-room");
+    const CameraPath path = resolveCameraPath("", "builtin:box-room");
+    PlaceSettings placeSettings = liveRoomSettings(scene);
+    placeSettings.texelsPerRadius = 16.0f;  // the error model's texels, as `place` has them
+    const PlacementScene ps(scene, placeSettings, &path);
+    const float radius = scene.defaultRadius();
+    LiveSettings live;
+    live.feedback.width = 48;
+    live.feedback.height = 27;
+    live.countEveryFrames = 2;
+    live.bakeMsPerFrame = 20.0;
+    live.idleFramesBeforeRebake = -1;  // no traced baker: not what this test is about
+    live.nearPlane = path.nearPlane;
+    live.farPlane = path.farPlane;
+    ASSERT_EQ(live.objective, LiveSettings::Objective::Error) << "the default";
+    LivePlacement placement(ps, test::bakeSettings(Estimator::HorizonSplit, 16, radius, 16),
+                            test::bakeSettings(Estimator::Traced, 16, radius, 16), live);
+    ProbeProjectionPass pass(placement.cacheParams(), scene.positions, scene.indices);
+    for (std::size_t f = 0; f < path.frames.size(); ++f) placement.frame(PinholeCamera(path, f, 64, 36), false, pass);
+    placement.drain(pass);
+    const LivePlacement::Stats s = placement.stats();
+
+    ErrorFeedback twin(ps);
+    for (std::size_t f = 0; f < path.frames.size(); f += 2)
+        twin.addFrame(PinholeCamera(path, f, 48, 27), path.nearPlane, path.farPlane, live.feedback.maxPerFrame);
+    std::printf("live box-room, error objective: %zu placed, %zu baked, predicted MAE so far %.4f (twin %zu, %.4f)\n",
+                s.placed, s.baked, s.predictedMae, twin.probes().size(), twin.predictedMae());
+    ASSERT_GT(s.placed, 0u);
+    EXPECT_EQ(s.baked, s.placed);
+    EXPECT_EQ(s.framesCounted, (path.frames.size() + 1) / 2);
+    EXPECT_EQ(s.stalled, nullptr);
+    EXPECT_EQ(placement.feedback().probes(), twin.probes()) << "the coverage report sees the same probes, in order";
+    EXPECT_DOUBLE_EQ(s.predictedMae, twin.predictedMae());
+    EXPECT_EQ(pass.grid().liveProbes(), s.placed);
 }
 
 // A fast and a traced bake that would make different sections cannot replace each other in one pass.

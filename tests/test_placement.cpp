@@ -18,6 +18,7 @@
 #include "cubeao/core/error.h"
 #include "cubeao/placement/coverage.h"
 #include "cubeao/placement/coverage_feedback.h"
+#include "cubeao/placement/error_feedback.h"
 #include "cubeao/placement/free_space.h"
 #include "cubeao/placement/placement.h"
 #include "cubeao/scene/builtin.h"
@@ -574,8 +575,8 @@ TEST(PlacementError, EveryMethodPlacesProbesForAWalkThroughAReversedModel) {
     std::vector<glm::vec3> along;
     for (const ProbeSpec& p : probesAlongPath(walk, 6)) along.push_back(p.position);
     const Placement voting = placeVoting(ps), grid = placeGrid(ps), coverage = placeCoverage(ps, walk),
-                    path = evaluate(ps, along, "path");
-    for (const Placement* r : {&voting, &grid, &coverage, &path}) {
+                    live = placeFeedback(ps, walk, 1), path = evaluate(ps, along, "path");
+    for (const Placement* r : {&voting, &grid, &coverage, &live, &path}) {
         EXPECT_FALSE(r->probes.empty()) << r->method;
         for (const PlacedProbe& p : r->probes) EXPECT_TRUE(ps.freeSpace().isFree(p.position) || r == &path) << r->method;
     }
@@ -619,6 +620,63 @@ TEST(PlacementError, CoverageFeedbackSaysWhyItCannotPlace) {
     ASSERT_TRUE(none.freeSpace().candidates().empty());
     CoverageFeedback blocked(none, {});
     const CoverageFeedback::FrameResult r = blocked.addFrame(camera);
+    EXPECT_EQ(r.added, 0);
+    ASSERT_NE(r.stalled, nullptr);
+    EXPECT_NE(std::string(r.stalled).find("no free space"), std::string::npos) << r.stalled;
+}
+
+// Live placement on the predicted error (error_feedback.h), frame by frame along the walk, comes near
+// offline voting, which sees the whole walk at once, at the same probe count; it is as blind to the
+// winding as voting, and says why when it cannot place.
+TEST(PlacementError, LiveErrorFeedbackComesNearVotingAtEqualCount) {
+    const Scene scene = twoRooms();
+    const CameraPath walk = twoRoomsWalk();
+    PlaceSettings s = errorSettings(scene);
+    const PlacementScene ps(scene, s, &walk);
+    const Placement live = placeFeedback(ps, walk, 1);
+    ASSERT_FALSE(live.probes.empty());
+    const double fallback = ExpectedError(ps).mae();
+    s.budget = int(live.probes.size());
+    const PlacementScene same(scene, s, &walk);
+    const Placement voting = placeVoting(same);
+    std::printf("two rooms: live %zu probes, predicted MAE %.4f; voting at the same count %.4f; screen space %.4f\n",
+                live.probes.size(), live.predictedMae, voting.predictedMae, fallback);
+    EXPECT_LT(live.predictedMae, 0.5 * fallback);
+    EXPECT_LE(live.predictedMae, 1.2 * voting.predictedMae);
+    // Every probe removed error when it came (gains of the probes in their order, over the whole walk).
+    for (const PlacedProbe& p : live.probes) EXPECT_GE(p.errorRemoved, 0.0);
+    // With every frame counted the walk so far is the whole walk at the end: the weights are the
+    // frames' image shares summed where the scene's are averaged, so the same MAE as evaluate()'s.
+    ASSERT_EQ(live.figures.back().first, "predicted_mae_walk_so_far");
+    EXPECT_NEAR(live.figures.back().second, live.predictedMae, 1e-3 * live.predictedMae);
+
+    const Scene reversed = withFlipped(scene, [](std::size_t) { return true; });
+    const PlacementScene rps(reversed, errorSettings(scene), &walk);
+    const Placement mirrored = placeFeedback(rps, walk, 1);
+    ASSERT_EQ(mirrored.probes.size(), live.probes.size());
+    for (std::size_t i = 0; i < live.probes.size(); ++i) EXPECT_EQ(mirrored.probes[i].position, live.probes[i].position);
+}
+
+TEST(PlacementError, LiveErrorFeedbackSaysWhyItCannotPlace) {
+    const Scene scene = twoRooms();
+    const CameraPath walk = twoRoomsWalk();
+    const PinholeCamera camera(walk, 3, 64, 36);
+    PlaceSettings s = errorSettings(scene);
+    const PlacementScene ps(scene, s, nullptr);
+    ErrorFeedback feedback(ps);
+    const ErrorFeedback::FrameResult placed = feedback.addFrame(camera, walk.nearPlane, walk.farPlane, 4);
+    EXPECT_GT(placed.added, 0);
+    EXPECT_LT(placed.after, placed.before);
+    EXPECT_EQ(placed.stalled, nullptr);
+    // The same view again: the walk so far weighs it twice, and what it needed is there already.
+    const ErrorFeedback::FrameResult again = feedback.addFrame(camera, walk.nearPlane, walk.farPlane, 4);
+    EXPECT_EQ(again.stalled, nullptr);
+
+    s.clearance = 2.0f;  // more than half of every room's height: no voxel is clear
+    const PlacementScene none(scene, s, nullptr);
+    ASSERT_TRUE(none.freeSpace().candidates().empty());
+    ErrorFeedback blocked(none);
+    const ErrorFeedback::FrameResult r = blocked.addFrame(camera, walk.nearPlane, walk.farPlane, 4);
     EXPECT_EQ(r.added, 0);
     ASSERT_NE(r.stalled, nullptr);
     EXPECT_NE(std::string(r.stalled).find("no free space"), std::string::npos) << r.stalled;

@@ -185,7 +185,8 @@ TEST_F(ViewerWindow, EveryViewModeRendersWithoutGlErrors) {
 // Live placement over an opened cache baked with other than the default rays and AO filter: the live
 // traced bake takes the cache's own settings, so the cache's probes are adopted (they were refused:
 // "baked with other parameters than the live bake") and saved back with the cache's parameters. A
-// damaged probe is left out by the view and by live placement, which adopts the others.
+// damaged probe is left out by the view and by live placement, which adopts the others. (The coverage
+// objective at a target of 0.01 places nothing beside them: adoption is what is tested.)
 TEST_F(ViewerWindow, LivePlacementAdoptsACacheBakedWithItsOwnSettings) {
     const Scene scene = loadScene("builtin:box-room");
     const CameraPath path = resolveCameraPath("", "builtin:box-room");
@@ -197,7 +198,7 @@ TEST_F(ViewerWindow, LivePlacementAdoptsACacheBakedWithItsOwnSettings) {
     const CacheReader opened(cache);
     ASSERT_EQ(opened.params().spp, 8u);
     ASSERT_EQ(opened.params().denoise, 0u);
-    view("builtin:box-room --cache " + cache.string() + " --bake-ms 1000 --coverage-target 0.01",
+    view("builtin:box-room --cache " + cache.string() + " --bake-ms 1000 --live-objective coverage --coverage-target 0.01",
          "size 96 54\npath 0\nlive on\nframes 2\nsave " + saved.string() + "\nquit\n");
     const nlohmann::json st = stats();
     ASSERT_TRUE(st.contains("live")) << st.dump(2);
@@ -212,7 +213,7 @@ TEST_F(ViewerWindow, LivePlacementAdoptsACacheBakedWithItsOwnSettings) {
     const std::vector<std::size_t> second{1};
     test::writeWithDamagedAo(cache, second, dir_ / "damaged.cubeao");
     const ProgramRun damaged = view("builtin:box-room --cache " + (dir_ / "damaged.cubeao").string() +
-                                        " --live --bake-ms 1000 --coverage-target 0.01",
+                                        " --live --bake-ms 1000 --live-objective coverage --coverage-target 0.01",
                                     "size 96 54\npath 0\nframes 2\nsave " + saved.string() + "\nquit\n");
     EXPECT_NE(damaged.out.find("probe 1: checksum mismatch"), std::string::npos) << damaged.out;
     EXPECT_EQ(stats()["probes"].get<std::size_t>(), 1u);
@@ -221,11 +222,34 @@ TEST_F(ViewerWindow, LivePlacementAdoptsACacheBakedWithItsOwnSettings) {
     EXPECT_EQ(CacheReader(saved).probeCount(), 1u);
 }
 
-// Live placement from no probes on builtin:box-room: the walk ends above the coverage target, every
-// placed probe is baked and in the pass, and the saved cache verifies.
+// Live placement from no probes on builtin:box-room, on the predicted error (the default): probes are
+// placed and baked, the walk so far's predicted error is reported, and an unknown objective is refused.
+TEST_F(ViewerWindow, LivePlacementOnTheErrorFromNoProbes) {
+    const fs::path saved = dir_ / "live.cubeao";
+    view("builtin:box-room --live --live-res 16 --bake-ms 1000",
+         "size 96 54\nplay 0 8\nsettle 400\nsave " + saved.string() + "\nquit\n");
+    const nlohmann::json s = stats();
+    ASSERT_TRUE(s.contains("live")) << s.dump(2);
+    const nlohmann::json& live = s["live"];
+    EXPECT_EQ(live["objective"].get<std::string>(), "error");
+    EXPECT_GT(live["placed"].get<int>(), 0);
+    EXPECT_EQ(live["baked"].get<int>(), live["placed"].get<int>());
+    EXPECT_GT(live["frames_counted"].get<int>(), 0);
+    EXPECT_GT(live["predicted_mae"].get<double>(), 0.0) << "the box room's corners stay a little off";
+    EXPECT_LT(live["predicted_mae"].get<double>(), 0.05) << s.dump(2);
+    EXPECT_EQ(CacheReader(saved).probeCount(), live["placed"].get<std::size_t>());
+
+    const ProgramRun bad =
+        runProgram(std::string(CUBEAO_VIEW_BINARY) + " builtin:box-room --live --live-objective pixels");
+    EXPECT_NE(bad.code, 0);
+    EXPECT_NE(bad.out.find("--live-objective"), std::string::npos) << bad.out;
+}
+
+// Live placement from no probes on builtin:box-room with the coverage objective: the walk ends above
+// the coverage target, every placed probe is baked and in the pass, and the saved cache verifies.
 TEST_F(ViewerWindow, LivePlacementFromNoProbes) {
     const fs::path saved = dir_ / "live.cubeao";
-    view("builtin:box-room --live --live-res 16 --bake-ms 1000 --coverage-target 0.9",
+    view("builtin:box-room --live --live-objective coverage --live-res 16 --bake-ms 1000 --coverage-target 0.9",
          "size 96 54\nplay 0 24\nsettle 400\nsave " + saved.string() + "\nquit\n");
     const nlohmann::json s = stats();
     ASSERT_TRUE(s.contains("live")) << s.dump(2);

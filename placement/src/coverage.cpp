@@ -63,16 +63,12 @@ std::vector<SurfaceSample> sampleSurface(const Scene& scene, std::size_t points,
     return samples;
 }
 
-std::vector<float> imageShareFromCamera(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
-                                        const CameraPath& path, std::size_t maxFrames) {
-    std::vector<PinholeCamera> cameras;
-    const std::size_t frames = path.frames.size();
-    const std::size_t used = std::min(frames, std::max<std::size_t>(maxFrames, 1));
-    for (std::size_t k = 0; k < used; ++k) cameras.emplace_back(path, k * frames / used, path.width, path.height);
-    const float aspect = float(path.width) / float(path.height);
+std::vector<float> imageShare(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                              std::span<const PinholeCamera> cameras, float nearPlane, float farPlane) {
     const float eps = embree.surfaceEpsilon();
     std::vector<float> share(samples.size(), 0.0f);
     if (cameras.empty()) return share;
+    const float aspect = float(cameras.front().width) / float(cameras.front().height);
     // The image plane at distance 1 spans (2 tan(fov/2))² · aspect: the frame's solid angle, near enough
     // for a near-horizontal field of view.
     const float frameSolidAngle = 4.0f * cameras.front().tanHalfFovY * cameras.front().tanHalfFovY * aspect;
@@ -83,7 +79,7 @@ std::vector<float> imageShareFromCamera(const EmbreeScene& embree, std::span<con
             for (const PinholeCamera& cam : cameras) {
                 const glm::vec3 d = s.position - cam.eye;
                 const float z = glm::dot(d, cam.forward), distance = glm::length(d);
-                if (!(z > path.nearPlane) || distance > path.farPlane || !(glm::dot(s.normal, d) < 0.0f)) continue;
+                if (!(z > nearPlane) || distance > farPlane || !(glm::dot(s.normal, d) < 0.0f)) continue;
                 const float h = z * cam.tanHalfFovY;
                 if (std::abs(glm::dot(d, cam.up)) > h || std::abs(glm::dot(d, cam.right)) > h * aspect) continue;
                 const glm::vec3 origin = s.position + s.normal * eps;
@@ -99,6 +95,15 @@ std::vector<float> imageShareFromCamera(const EmbreeScene& embree, std::span<con
         }
     });
     return share;
+}
+
+std::vector<float> imageShareFromCamera(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                                        const CameraPath& path, std::size_t maxFrames) {
+    std::vector<PinholeCamera> cameras;
+    const std::size_t frames = path.frames.size();
+    const std::size_t used = std::min(frames, std::max<std::size_t>(maxFrames, 1));
+    for (std::size_t k = 0; k < used; ++k) cameras.emplace_back(path, k * frames / used, path.width, path.height);
+    return imageShare(embree, samples, cameras, path.nearPlane, path.farPlane);
 }
 
 std::vector<std::uint8_t> relevantFromCamera(const EmbreeScene& embree, std::span<const SurfaceSample> samples,

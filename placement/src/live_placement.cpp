@@ -11,6 +11,7 @@
 #include "cubeao/bake/gpu_bake.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/handles.h"
+#include "cubeao/placement/error_feedback.h"
 #include "cubeao/placement/gpu_coverage.h"
 #include "cubeao/reference/embree_scene.h"
 #include "cubeao/runtime/probe_projection.h"
@@ -64,14 +65,15 @@ struct LivePlacement::Impl {
     const PlacementScene& ps;
     LiveSettings settings;
     CacheParams fastParams, tracedParams;
-    CoverageFeedback feedback;
-    GpuCoverageCount count;
+    CoverageFeedback feedback;                  // Coverage: places; Error: holds the probes for reports
+    std::optional<ErrorFeedback> errorFeedback;  // Error only
+    std::unique_ptr<GpuCoverageCount> count;     // Coverage only
     GpuBaker fastBaker;
     std::unique_ptr<GpuBaker> tracedBaker;  // null when re-baking is off
     BakeBudget budget;
 
     std::vector<Probe> probes;
-    std::size_t feedbackSeen = 0;      // feedback.probes() already turned into Probes
+    std::size_t feedbackSeen = 0;      // placing feedback's probes() already turned into Probes
     std::deque<std::size_t> queue;     // probes waiting for their fast bake, placement order
     std::optional<std::size_t> fastJob, tracedJob;  // the probe each baker is baking
     std::uint32_t nextIndex = 0;
@@ -93,7 +95,6 @@ struct LivePlacement::Impl {
           fastParams(cacheParamsFor(fast, ps.scene())),
           tracedParams(cacheParamsFor(traced, ps.scene())),
           feedback(ps, s.feedback),
-          count(ps.scene(), s.nearPlane),
           fastBaker(ps.scene(), fast),
           budget(s.bakeMsPerFrame) {
         if (settings.countEveryFrames < 1) throw Error("LivePlacement: countEveryFrames must be at least 1");
@@ -104,6 +105,15 @@ struct LivePlacement::Impl {
             throw Error("LivePlacement: the fast and the traced bake must make the same probe sections: " +
                         joined(differ));
         if (settings.idleFramesBeforeRebake >= 0) tracedBaker = std::make_unique<GpuBaker>(ps.scene(), traced);
+        if (settings.objective == LiveSettings::Objective::Error)
+            errorFeedback.emplace(ps);
+        else
+            count = std::make_unique<GpuCoverageCount>(ps.scene(), s.nearPlane);
+    }
+
+    // The probes of the feedback that places them.
+    const std::vector<glm::vec3>& placedProbes() const {
+        return errorFeedback ? errorFeedback->probes() : feedback.probes();
     }
 
     ~Impl() { dropCountFences(0); }
@@ -115,8 +125,9 @@ struct LivePlacement::Impl {
 
     // Whether a count can be submitted now without waiting.
     bool countSlotFree() {
-        dropCountFences(count.pending());
-        if (count.pending() < GpuCoverageCount::kSlots) return true;
+        if (!count) return true;  // Error: nothing in flight
+        dropCountFences(count->pending());
+        if (count->pending() < GpuCoverageCount::kSlots) return true;
         if (countFences.empty()) return false;
         const GLenum status = glClientWaitSync(countFences.front(), 0, 0);
         if (status == GL_WAIT_FAILED) throw Error("LivePlacement: glClientWaitSync failed");
@@ -127,16 +138,28 @@ struct LivePlacement::Impl {
         PinholeCamera counted = camera;  // eye, basis and field of view; the count's resolution
         counted.width = settings.feedback.width;
         counted.height = settings.feedback.height;
-        const std::vector<CoverageFeedback::FrameResult> results = feedback.addFrame(counted, count);
+        if (errorFeedback) {
+            const ErrorFeedback::FrameResult r = errorFeedback->addFrame(counted, settings.nearPlane, settings.farPlane,
+                                                                         settings.feedback.maxPerFrame);
+            stats.predictedMae = r.after;
+            stats.stalled = r.added == 0 ? r.stalled : nullptr;
+            ++stats.framesCounted;
+            takeNewProbes();
+            return;
+        }
+        const std::vector<CoverageFeedback::FrameResult> results = feedback.addFrame(counted, *count);
         countFences.push_back(glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0));
         glFlush();  // so that polling the fence with no flush bit can see it signal
-        dropCountFences(count.pending());
+        dropCountFences(count->pending());
         handled(results);
     }
 
-    // New probes of the coverage feedback join the queue, with the next indices.
+    // New probes of the placing feedback join the queue, with the next indices (and the coverage
+    // feedback's list, when it does not place them itself).
     void takeNewProbes() {
-        const std::vector<glm::vec3>& placed = feedback.probes();
+        const std::vector<glm::vec3>& placed = placedProbes();
+        if (errorFeedback && placed.size() > feedbackSeen)
+            feedback.addProbes(std::span(placed).subspan(feedbackSeen));
         for (; feedbackSeen < placed.size(); ++feedbackSeen) {
             Probe p;
             p.index = nextIndex++;
@@ -246,7 +269,8 @@ void LivePlacement::adopt(std::vector<ProbeRecord> probes, std::span<const std::
     std::vector<glm::vec3> positions;
     for (std::size_t i = m.probes.size() - probes.size(); i < m.probes.size(); ++i) positions.push_back(m.probes[i].position);
     m.feedback.addProbes(positions);
-    m.feedbackSeen = m.feedback.probes().size();
+    if (m.errorFeedback) m.errorFeedback->addProbes(positions);
+    m.feedbackSeen = m.placedProbes().size();
 }
 
 void LivePlacement::frame(const PinholeCamera& camera, bool idle, ProbeProjectionPass& pass) {
@@ -290,7 +314,7 @@ void LivePlacement::frame(const PinholeCamera& camera, bool idle, ProbeProjectio
 
 void LivePlacement::drain(ProbeProjectionPass& pass) {
     Impl& m = *impl_;
-    m.handled(m.feedback.drain(m.count));
+    if (m.count) m.handled(m.feedback.drain(*m.count));
     m.dropCountFences(0);
     // Bake to the end, waiting for each fence (glFinish) instead of polling it frame after frame.
     while (GpuBaker* baker = m.nextBaker(false)) {

@@ -194,13 +194,26 @@ Placement evaluate(const PlacementScene& ps, const std::vector<glm::vec3>& probe
     return result;
 }
 
-ExpectedError::ExpectedError(const PlacementScene& ps) : ps_(ps), current_(ps.samples().size(), 0.0f) {
+ExpectedError::ExpectedError(const PlacementScene& ps, bool fromWalk)
+    : ps_(ps), current_(ps.samples().size(), 0.0f) {
+    weights_ = fromWalk ? ps.weights() : std::vector<float>(ps.samples().size(), 0.0f);
+    // Every relevant sample carries its error, weighted or not, so that weight added later meets the
+    // error of the probes already there.
     for (std::size_t i = 0; i < current_.size(); ++i) {
-        const double w = ps.weights()[i];
-        if (!(w > 0.0)) continue;
+        if (!ps.relevant()[i]) continue;
         current_[i] = ps.expectedError(std::uint32_t(i), INFINITY);
+        const double w = weights_[i];
         totalWeight_ += w;
         weighted_ += w * current_[i];
+    }
+}
+
+void ExpectedError::addWeights(std::span<const float> share) {
+    for (std::size_t i = 0; i < share.size(); ++i) {
+        if (!(share[i] > 0.0f) || !ps_.relevant()[i]) continue;
+        weights_[i] += share[i];
+        totalWeight_ += share[i];
+        weighted_ += double(share[i]) * double(current_[i]);
     }
 }
 
@@ -208,7 +221,7 @@ double ExpectedError::gain(std::span<const SampleView> views) const {
     double g = 0.0;
     for (const SampleView& v : views) {
         const float e = ps_.expectedError(v.sample, v.area);
-        if (e < current_[v.sample]) g += double(ps_.weights()[v.sample]) * double(current_[v.sample] - e);
+        if (e < current_[v.sample]) g += double(weights_[v.sample]) * double(current_[v.sample] - e);
     }
     return totalWeight_ > 0.0 ? g / totalWeight_ : 0.0;
 }
@@ -217,7 +230,7 @@ void ExpectedError::add(std::span<const SampleView> views) {
     for (const SampleView& v : views) {
         const float e = ps_.expectedError(v.sample, v.area);
         if (e < current_[v.sample]) {
-            weighted_ -= double(ps_.weights()[v.sample]) * double(current_[v.sample] - e);
+            weighted_ -= double(weights_[v.sample]) * double(current_[v.sample] - e);
             current_[v.sample] = e;
         }
     }

@@ -32,7 +32,11 @@ int main(int argc, char** argv) {
     app.add_flag("--live", o.live, "live placement from the start (without --cache: from no probes)");
     app.add_option("--bake-ms", o.bakeMsPerFrame, "live placement: bake time slice per frame, ms (default 8)");
     app.add_option("--live-res", o.liveRes, "live placement: face resolution of new probes (default 128)");
-    app.add_option("--coverage-target", o.coverageTarget, "live placement: coverage of the frames to reach (default 0.95)");
+    app.add_option("--live-objective", o.liveObjective,
+                   "live placement: error (probes where the predicted AO error of the walk so far asks, as `place` "
+                   "does; default) or coverage (until --coverage-target of each frame is finely covered)");
+    app.add_option("--coverage-target", o.coverageTarget,
+                   "live placement with --live-objective coverage: coverage of the frames to reach (default 0.95)");
     app.add_option("--stats", o.statsJson, "write a JSON summary at exit");
     app.add_flag("!--no-vsync", o.vsync, "render as fast as possible");
     CLI11_PARSE(app, argc, argv);

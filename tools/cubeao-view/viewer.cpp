@@ -232,6 +232,8 @@ Viewer::Viewer(const ViewerOptions& o) : o_(o) {
     if (!(o.bakeMsPerFrame > 0.0 && o.bakeMsPerFrame <= 1000.0)) throw UsageError("--bake-ms must lie in (0, 1000]");
     if (o.liveRes < 4 || o.liveRes > 2048 || o.liveRes % 4) throw UsageError("--live-res must be a multiple of 4 in [4, 2048]");
     if (!(o.coverageTarget > 0.0 && o.coverageTarget <= 1.0)) throw UsageError("--coverage-target must lie in (0, 1]");
+    if (o.liveObjective != "error" && o.liveObjective != "coverage")
+        throw UsageError("--live-objective \"" + o.liveObjective + "\": expected error or coverage");
     cli::checkResidencyOptions(o.gpuBudgetMb, o.uploadMb);  // a negative MiB count would wrap to a huge budget
     const auto mode = parseViewMode(o.mode);
     if (!mode) throw UsageError("--mode \"" + o.mode + "\": not a view mode");
@@ -378,6 +380,9 @@ void Viewer::startLive() {
         placement::LiveSettings ls;
         ls.bakeMsPerFrame = o_.bakeMsPerFrame;
         ls.nearPlane = camera_.nearPlane;
+        if (path_) ls.farPlane = path_->farPlane;
+        ls.objective = o_.liveObjective == "coverage" ? placement::LiveSettings::Objective::Coverage
+                                                      : placement::LiveSettings::Objective::Error;
         // The count's frames keep the view's aspect (64 pixels wide).
         int w = 0, h = 0;
         renderSize(w, h);
@@ -404,8 +409,12 @@ void Viewer::startLive() {
             }
             live_->adopt(std::move(records), ids, cache_->params());
         }
-        spdlog::info("cubeao-view: live placement ready in {:.1f} s (target coverage {:.0f} %)", msSince(start) / 1000.0,
-                     100.0 * o_.coverageTarget);
+        if (o_.liveObjective == "coverage")
+            spdlog::info("cubeao-view: live placement ready in {:.1f} s (target coverage {:.0f} %)",
+                         msSince(start) / 1000.0, 100.0 * o_.coverageTarget);
+        else
+            spdlog::info("cubeao-view: live placement ready in {:.1f} s (predicted AO error of the walk so far)",
+                         msSince(start) / 1000.0);
     }
     liveOn_ = true;
 }
@@ -760,7 +769,8 @@ nlohmann::json Viewer::summary() const {
         const placement::LivePlacement::Stats s = live_->stats();
         j["live"] = {{"placed", s.placed},       {"baked", s.baked},         {"rebaked", s.rebaked},
                      {"queued", s.queued},       {"coverage", s.coverage},   {"bake_ms_mean", s.bakeMsMean},
-                     {"bake_ms_budget", o_.bakeMsPerFrame}};
+                     {"bake_ms_budget", o_.bakeMsPerFrame}, {"objective", o_.liveObjective},
+                     {"predicted_mae", s.predictedMae}, {"frames_counted", s.framesCounted}};
         if (path_) {
             // The walk's coverage with every probe placed so far (coverage.h's definition, Embree): per
             // path frame at FeedbackSettings' default 64×36 (the live count may use another height).
@@ -893,9 +903,13 @@ void Viewer::drawPanel() {
     if (ImGui::Checkbox("place probes while walking (L)", &on)) setLive(on);
     if (live_) {
         const placement::LivePlacement::Stats s = live_->stats();
-        ImGui::ProgressBar(float(s.coverage), ImVec2(170, 0));
-        ImGui::SameLine();
-        ImGui::Text("coverage (target %.0f %%)", 100.0 * o_.coverageTarget);
+        if (o_.liveObjective == "coverage") {
+            ImGui::ProgressBar(float(s.coverage), ImVec2(170, 0));
+            ImGui::SameLine();
+            ImGui::Text("coverage (target %.0f %%)", 100.0 * o_.coverageTarget);
+        } else {
+            ImGui::Text("predicted AO error of the walk so far: %.4f", s.predictedMae);
+        }
         ImGui::Text("placed %zu · baked %zu · re-baked %zu · queued %zu", s.placed, s.baked, s.rebaked, s.queued);
         ImGui::Text("bake %.1f ms/frame (budget %.1f)", s.bakeMsMean, o_.bakeMsPerFrame);
         if (s.stalled) ImGui::TextColored(ImVec4(1.0f, 0.6f, 0.2f, 1.0f), "cannot place: %s", s.stalled);

@@ -26,7 +26,8 @@ struct ViewerOptions {
     bool live = false;          // live placement from the start
     double bakeMsPerFrame = 8.0;   // live placement's time slice per frame
     int liveRes = 128;          // face resolution of live-placed probes (placed for a 512² bake's density)
-    double coverageTarget = 0.95;  // live placement's target coverage of the frames
+    std::string liveObjective = "error";  // live placement's objective: error (predicted AO error) or coverage
+    double coverageTarget = 0.95;  // live placement with the coverage objective: coverage of the frames to reach
     bool vsync = true;
 };
 

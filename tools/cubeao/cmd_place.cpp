@@ -14,7 +14,9 @@
 #include "cubeao/core/progress.h"
 #include "cubeao/gl/context.h"
 #include "cubeao/placement/coverage_feedback.h"
+#include "cubeao/placement/error_feedback.h"
 #include "cubeao/placement/gpu_coverage.h"
+#include "cubeao/placement/live_placement.h"
 #include "cubeao/placement/placement.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/import.h"
@@ -47,8 +49,8 @@ double peakMemoryMb() {
 void run(PlaceArgs a) {
     const std::string& m = a.method;
     if (a.device != "gpu" && a.device != "cpu") throw UsageError("--device \"" + a.device + "\": expected gpu or cpu");
-    if (m != "voting" && m != "coverage" && m != "grid" && m != "path")
-        throw UsageError("--method \"" + m + "\": expected voting, coverage, grid or path");
+    if (m != "voting" && m != "coverage" && m != "grid" && m != "path" && m != "live")
+        throw UsageError("--method \"" + m + "\": expected voting, live, coverage, grid or path");
     if (m == "path" && a.settings.budget == 0)
         throw UsageError("--method path needs --budget N (how many probes to spread along the path)");
     a.settings.validate();
@@ -61,8 +63,10 @@ void run(PlaceArgs a) {
     // The path and coverage methods walk a camera path; voting and grid use one when given (it decides
     // what is relevant) and free space otherwise. Built-in scenes bring their own path.
     std::unique_ptr<CameraPath> path;
-    const bool needsPath = m == "path" || m == "coverage";
+    const bool needsPath = m == "path" || m == "coverage" || m == "live";
     if (needsPath || !a.camera.empty()) path = std::make_unique<CameraPath>(resolveCameraPath(a.camera, scene));
+    // `live` weighs the walk one frame at a time, as the viewer does (given the walk, the viewer builds
+    // the same scene: the walk bounds what is relevant and seeds free space).
     const placement::PlacementScene ps(scene, a.settings, path.get());
 
     placement::Placement result;
@@ -73,6 +77,10 @@ void run(PlaceArgs a) {
     } else if (m == "grid") {
         Progress progress("place grid", 0, "spacings");
         result = placement::placeGrid(ps, &progress);
+    } else if (m == "live") {
+        Progress progress("place live", path->frames.size(), "frames");
+        result = placement::placeFeedback(ps, *path, placement::LiveSettings{}.countEveryFrames,
+                                          placement::FeedbackSettings{}.maxPerFrame, &progress);
     } else if (m == "coverage") {
         // The frame counts run on the GPU when a GL 4.5 context can be made (asynchronously: frames
         // are handled as their counts come back); otherwise, or with --device cpu, every frame is
@@ -177,8 +185,9 @@ void addPlace(CLI::App& app) {
     placement::PlaceSettings& s = a->settings;
     cmd->add_option("scene", a->scene, "Model file or builtin:NAME")->required();
     cmd->add_option("--method", a->method,
-                    "voting (normal voting + greedy cover), coverage (feedback along --camera), grid (uniform, "
-                    "spacing searched), path (along --camera)")
+                    "voting (normal voting + greedy on predicted error), live (the viewer's live placement run "
+                    "along --camera), coverage (coverage feedback along --camera), grid (uniform, spacing searched), "
+                    "path (along --camera)")
         ->capture_default_str();
     cmd->add_option("--out", a->out, "probes.json to write")->required();
     cmd->add_option("--camera", a->camera,

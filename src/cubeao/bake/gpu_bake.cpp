@@ -388,10 +388,12 @@ public:
     }
     ~SavedFrameState() {
         glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);
-        glUseProgram(GLuint(program_));
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(drawFramebuffer_));
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readFramebuffer_));
-        glBindVertexArray(GLuint(vertexArray_));
+        // A program, framebuffer or vertex array deleted while it was bound lives on only while bound:
+        // unbound by the stage, its name is gone (binding it again is GL_INVALID_VALUE/OPERATION).
+        glUseProgram(glIsProgram(GLuint(program_)) ? GLuint(program_) : 0);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, glIsFramebuffer(GLuint(drawFramebuffer_)) ? GLuint(drawFramebuffer_) : 0);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, glIsFramebuffer(GLuint(readFramebuffer_)) ? GLuint(readFramebuffer_) : 0);
+        glBindVertexArray(glIsVertexArray(GLuint(vertexArray_)) ? GLuint(vertexArray_) : 0);
         glDepthFunc(GLenum(depthFunc_));
         glClipControl(GLenum(clipOrigin_), GLenum(clipDepthMode_));
         const auto enable = [](GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); };

@@ -62,6 +62,9 @@ std::vector<SurfaceSample> sampleSurface(const Scene& scene, std::size_t points,
 // subtends (area · cos / distance², in the frame's view within the far plane, facing its eye, nothing
 // in between) as a share of the frame's. 0: no frame sees it (not relevant). At most `maxFrames` frames,
 // evenly spread, are used.
+// The same for given frames (all of one aspect), visible between nearPlane and farPlane.
+std::vector<float> imageShare(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                              std::span<const PinholeCamera> cameras, float nearPlane, float farPlane);
 std::vector<float> imageShareFromCamera(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
                                         const CameraPath& path, std::size_t maxFrames = 240);
 // The samples imageShareFromCamera() finds a frame that sees (weight > 0).

@@ -49,12 +49,18 @@ private:
 };
 
 struct LiveSettings {
+    // What places the probes: Error, the predicted AO error of the walk so far (error_feedback.h, the
+    // objective of offline voting; counted on the CPU), or Coverage, the share of each frame's pixels a
+    // probe covers finely (coverage_feedback.h, counted on the GPU).
+    enum class Objective { Error, Coverage };
+    Objective objective = Objective::Error;
     FeedbackSettings feedback;        // count resolution (the count's aspect: choose the window's), probes per frame
     int countEveryFrames = 4;         // submit a coverage count every N frames (1 = every frame)
     double bakeMsPerFrame = 4.0;      // BakeBudget: average wall ms per frame spent issuing bake steps
     int idleFramesBeforeRebake = 30;  // idle this many frames in a row → re-bake fast probes with traced;
                                       // < 0: never (no traced baker is built)
     float nearPlane = 0.05f;          // the GPU count's camera G-buffer clip distance (CameraPath::nearPlane)
+    float farPlane = 1e30f;           // Error: what a frame shows lies within this distance (CameraPath::farPlane)
 };
 
 class LivePlacement {
@@ -85,6 +91,9 @@ public:
     void adopt(std::vector<ProbeRecord> probes, std::span<const std::uint32_t> passIds, const CacheParams& params);
 
     // Once per frame, with the camera the frame shows and whether the viewer is idle (camera still):
+    //  - Error: every countEveryFrames frames (unless it shows exactly the view counted last) adds the
+    //    frame to the walk so far and places what the predicted error asks for, on the CPU at once
+    //    (ErrorFeedback::addFrame; tens of ms on a large building). Coverage:
     //  - every countEveryFrames frames submits a GPU coverage count of `camera` at the feedback
     //    resolution (eye, basis and field of view kept; the count's aspect is feedback.width/height)
     //    unless it shows exactly the view counted last (a camera standing still is counted once). While
@@ -114,7 +123,8 @@ public:
         std::size_t queued = 0;   // placed, fast bake not finished yet (the one in progress included)
         std::size_t inPass = 0;   // probes this object has in the pass (adopted ones included)
         std::size_t framesCounted = 0;  // coverage counts handled
-        double coverage = 1.0;    // covered share of the newest counted frame, after the probes it placed
+        double coverage = 1.0;    // Coverage: covered share of the newest counted frame, after the probes it placed
+        double predictedMae = 0.0;  // Error: predicted MAE of the walk so far, after the probes it placed
         const char* stalled = nullptr;  // why the newest counted frame below the target got no probe (null: it
                                         // did not stall; coverage_feedback.h FrameResult::stalled)
         double bakeMsLastFrame = 0.0;  // wall ms of the bake steps issued in the last frame()
@@ -125,7 +135,8 @@ public:
     };
     Stats stats() const;
 
-    // The coverage feedback (its probes, frameCoverage for a walk's report).
+    // The coverage feedback (its probes, frameCoverage for a walk's report): with the Error objective
+    // it places nothing but holds every probe, so its frameCoverage reports the same.
     const CoverageFeedback& feedback() const;
 
     // Every probe baked so far, by index (the traced version where re-baked; adopted probes as adopted),

@@ -155,18 +155,26 @@ struct Placement {
 // The predicted walk MAE of a probe set as probes join it: every relevant sample at the error of the
 // best probe that sees it (the projection ranks by texel area, and the error model grows with it),
 // the fallback's where none does, weighted by PlacementScene::weights().
+// The weights start as PlacementScene::weights() (the whole walk), or at 0 with `fromWalk` false for a
+// walk seen one frame at a time (live placement, error_feedback.h), which adds each frame's image
+// shares with addWeights().
 class ExpectedError {
 public:
-    explicit ExpectedError(const PlacementScene& ps);
+    explicit ExpectedError(const PlacementScene& ps, bool fromWalk = true);
     // What adding a probe with these views would remove from mae().
     double gain(std::span<const SampleView> views) const;
     void add(std::span<const SampleView> views);
+    // More weight on samples (one frame's image shares, imageShare()); irrelevant samples are skipped:
+    // the scene has no occlusion for them.
+    void addWeights(std::span<const float> share);
     double mae() const;
     float current(std::uint32_t sample) const { return current_[sample]; }
+    float weight(std::uint32_t sample) const { return weights_[sample]; }
+    double totalWeight() const { return totalWeight_; }
 
 private:
     const PlacementScene& ps_;
-    std::vector<float> current_;
+    std::vector<float> weights_, current_;
     double totalWeight_ = 0.0, weighted_ = 0.0;
 };
 
