@@ -128,6 +128,14 @@ TEST(Cli, PlaceAlongThePathWritesAProbeSetBakeReads) {
     ASSERT_EQ(check.code, 0) << check.out;
     EXPECT_NEAR(lastLine(check.out)["probe_check"]["predicted_mae"].get<double>(), path["predicted_mae"].get<double>(),
                 1e-9) << "info --probes predicts what place reported for the same probes";
+    // The viewer's live placement along the built-in walk: probes on the same objective, reported alike.
+    const CliRun live = run("place builtin:box-room --method live --samples 4000 --out " + probes.string() + " --json");
+    ASSERT_EQ(live.code, 0) << live.out;
+    EXPECT_EQ(lastLine(live.out)["method"].get<std::string>(), "live");
+    EXPECT_GT(lastLine(live.out)["probes"].get<int>(), 0);
+    EXPECT_LT(lastLine(live.out)["predicted_mae"].get<double>(), path["predicted_mae"].get<double>())
+        << "placing until a probe removes under 1.5 % beats 3 eyes of the walk";
+    EXPECT_GT(lastLine(live.out)["figures"]["frames_counted"].get<int>(), 0);
     // A target error screen space alone meets: nothing to place, and the error says why.
     const CliRun target = run("place builtin:box-room --camera builtin:box-room --target-error 0.5 --samples 2000 --out " +
                               probes.string(), /*withStderr=*/true);

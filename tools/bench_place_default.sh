@@ -9,8 +9,9 @@
 #   bash tools/bench_place_default.sh [sibenik|fzk-haus ...]
 #
 # Prints one row per run: probes, predicted MAE, measured MAE, flicker, and the MAE against the path set
-# of one probe per 10 frames. Env: BIN (build/cubeao), FRAMES/W/H as calibrate_error.sh; NO_WALK= and
-# REVERSED= (empty) skip the runs without the walk (the longest) and the reversed models.
+# of one probe per 10 frames. Env: BIN (build/cubeao), FRAMES/W/H as calibrate_error.sh; DEFAULT=, LIVE=,
+# NO_WALK= and REVERSED= (empty) skip the default run, live placement's (and voting at its count), the
+# runs without the walk (the longest) and the reversed models.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 shared=${CUBEAO_SHARED_DIR:-../shared}
@@ -78,7 +79,14 @@ print(rows[0]["mae"])
 PY
 )
     echo "== $which: path set of 12 (one probe per 10 frames) at 512²: MAE $pathMae"
-    run default "$scene" "$out" --camera "$walk"
+    if [ -n "${DEFAULT-1}" ]; then run default "$scene" "$out" --camera "$walk"; fi
+    if [ -n "${LIVE-1}" ]; then
+        # Live placement's objective along the walk (`place --method live`, the viewer's loop run offline),
+        # and voting at the count it ended with.
+        run live "$scene" "$out" --camera "$walk" --method live
+        n=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['probes'])" "$out/live.place.json")
+        run "voting-$n" "$scene" "$out" --camera "$walk" --budget "$n"
+    fi
     if [ "$which" = sibenik ] && [ -n "${REVERSED-1}" ]; then
         for mode in all half; do
             reversed "$scene" "$out/sibenik-$mode.obj" "$mode"
