@@ -602,29 +602,6 @@ TEST(PlacementError, SealedReversedModelWithoutAWalkStillFindsItsRooms) {
     EXPECT_EQ(inA + inB, int(r.probes.size()));
 }
 
-// Live placement's feedback says why a frame below its target got no probe (issue 31: the viewer's
-// panel and log show it), and says nothing when it placed one.
-TEST(PlacementError, CoverageFeedbackSaysWhyItCannotPlace) {
-    const Scene scene = twoRooms();
-    const CameraPath walk = twoRoomsWalk();
-    const PinholeCamera camera(walk, 3, 64, 36);
-    PlaceSettings s = errorSettings(scene);
-    const PlacementScene ps(scene, s, nullptr);
-    CoverageFeedback feedback(ps, {});
-    const CoverageFeedback::FrameResult placed = feedback.addFrame(camera);
-    EXPECT_GT(placed.added, 0);
-    EXPECT_EQ(placed.stalled, nullptr);
-
-    s.clearance = 2.0f;  // more than half of every room's height: no voxel is clear
-    const PlacementScene none(scene, s, nullptr);
-    ASSERT_TRUE(none.freeSpace().candidates().empty());
-    CoverageFeedback blocked(none, {});
-    const CoverageFeedback::FrameResult r = blocked.addFrame(camera);
-    EXPECT_EQ(r.added, 0);
-    ASSERT_NE(r.stalled, nullptr);
-    EXPECT_NE(std::string(r.stalled).find("no free space"), std::string::npos) << r.stalled;
-}
-
 // Live placement on the predicted error (error_feedback.h), frame by frame along the walk, comes near
 // offline voting, which sees the whole walk at once, at the same probe count; it is as blind to the
 // winding as voting, and says why when it cannot place.
@@ -657,29 +634,41 @@ TEST(PlacementError, LiveErrorFeedbackComesNearVotingAtEqualCount) {
     for (std::size_t i = 0; i < live.probes.size(); ++i) EXPECT_EQ(mirrored.probes[i].position, live.probes[i].position);
 }
 
-TEST(PlacementError, LiveErrorFeedbackSaysWhyItCannotPlace) {
+// Live placement, on either objective, says why a frame that needs a probe got none (issue 31: the
+// viewer's panel and log show it), and says nothing when it placed one.
+TEST(PlacementError, LiveFeedbackSaysWhyItCannotPlace) {
     const Scene scene = twoRooms();
     const CameraPath walk = twoRoomsWalk();
     const PinholeCamera camera(walk, 3, 64, 36);
     PlaceSettings s = errorSettings(scene);
     const PlacementScene ps(scene, s, nullptr);
-    ErrorFeedback feedback(ps);
-    const ErrorFeedback::FrameResult placed = feedback.addFrame(camera, walk.nearPlane, walk.farPlane, 4);
+    s.clearance = 2.0f;  // more than half of every room's height: no voxel is clear
+    const PlacementScene none(scene, s, nullptr);
+    ASSERT_TRUE(none.freeSpace().candidates().empty());
+    auto expectNoFreeSpace = [](const char* stalled) {
+        ASSERT_NE(stalled, nullptr);
+        EXPECT_NE(std::string(stalled).find("no free space"), std::string::npos) << stalled;
+    };
+
+    CoverageFeedback coverage(ps, {});
+    const CoverageFeedback::FrameResult covered = coverage.addFrame(camera);
+    EXPECT_GT(covered.added, 0);
+    EXPECT_EQ(covered.stalled, nullptr);
+    const CoverageFeedback::FrameResult uncovered = CoverageFeedback(none, {}).addFrame(camera);
+    EXPECT_EQ(uncovered.added, 0);
+    expectNoFreeSpace(uncovered.stalled);
+
+    ErrorFeedback error(ps);
+    const ErrorFeedback::FrameResult placed = error.addFrame(camera, walk.nearPlane, walk.farPlane, 4);
     EXPECT_GT(placed.added, 0);
     EXPECT_LT(placed.after, placed.before);
     EXPECT_EQ(placed.stalled, nullptr);
     // The same view again: the walk so far weighs it twice, and what it needed is there already.
-    const ErrorFeedback::FrameResult again = feedback.addFrame(camera, walk.nearPlane, walk.farPlane, 4);
-    EXPECT_EQ(again.stalled, nullptr);
-
-    s.clearance = 2.0f;  // more than half of every room's height: no voxel is clear
-    const PlacementScene none(scene, s, nullptr);
-    ASSERT_TRUE(none.freeSpace().candidates().empty());
+    EXPECT_EQ(error.addFrame(camera, walk.nearPlane, walk.farPlane, 4).stalled, nullptr);
     ErrorFeedback blocked(none);
     const ErrorFeedback::FrameResult r = blocked.addFrame(camera, walk.nearPlane, walk.farPlane, 4);
     EXPECT_EQ(r.added, 0);
-    ASSERT_NE(r.stalled, nullptr);
-    EXPECT_NE(std::string(r.stalled).find("no free space"), std::string::npos) << r.stalled;
+    expectNoFreeSpace(r.stalled);
 }
 
 TEST(PlacementError, AWalkWhoseEyesAreAllInsideWallsIsRefused) {
