@@ -35,7 +35,11 @@ struct PlaceArgs {
 std::string stopReason(const std::string& stop) {
     if (stop == "budget") return "; the budget";
     if (stop == "target_error") return "; --target-error reached";
-    if (stop == "automatic") return "; the next probe would remove under 1.5 % of the predicted error";
+    if (stop == "automatic") {
+        char share[32];
+        std::snprintf(share, sizeof share, "%g", 100.0 * placement::kAutomaticStop);
+        return "; the next probe would remove under " + std::string(share) + " % of the predicted error";
+    }
     if (stop == "no_gain") return "; no further probe lowers the predicted error (fewer than --budget)";
     return "";
 }
@@ -201,7 +205,7 @@ void addPlace(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--target-error", s.targetError,
                     "voting: stop once the predicted walk MAE is at most this (0: stop where the next probe "
-                    "removes under 1.5 % of it)")
+                    "removes under 1 % of it)")
         ->capture_default_str();
     cmd->add_option("--voxel", s.voxel, "Candidate voxel edge (0: ~150k voxels in the box)")->capture_default_str();
     cmd->add_option("--clearance", s.clearance, "Least distance from a probe to geometry (0: half a voxel)")
