@@ -45,6 +45,7 @@ run() {
     local name=$1 scene=$2 out=$3
     shift 3
     "$bin" place "$scene" --out "$out/$name.json" --json "$@" | tail -1 > "$out/$name.place.json"
+    rm -rf "$out/$name.cubeao" "$out/$name.cubeao".part-*  # bake resumes a cache: not one of another probe set
     "$bin" bake "$scene" --probes "$out/$name.json" --res 512 --estimator traced --device cpu \
         --out "$out/$name.cubeao" --json | tail -1 > "$out/$name.bake.json"
     "$bin" render "$scene" --cache "$out/$name.cubeao" --camera "$walk" --frames "$frames" --width "$W" \
