@@ -21,6 +21,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "test_paths.h"
+
 namespace cubeao::test {
 
 struct CliRun {
@@ -43,7 +45,7 @@ inline CliRun runCommand(const std::string& cmd) {
 // Runs the binary; `out` is its stdout, followed by its stderr when withStderr.
 // (Appended piecewise: GCC 12's -Warray-bounds misfires on `std::string(...) + " " + args + (c ? a : b)`.)
 inline CliRun runCli(const std::string& args, bool withStderr = false) {
-    std::string cmd = CUBEAO_BINARY;
+    std::string cmd = cubeaoBinary();
     cmd += ' ';
     cmd += args;
     cmd += withStderr ? " 2>&1" : " 2>/dev/null";
@@ -91,7 +93,7 @@ inline ChildRun runChild(const ChildSpec& spec) {
         return r;
     }
     // Everything the child needs is built before fork: only async-signal-safe calls after it.
-    std::vector<std::string> argStore{CUBEAO_BINARY};
+    std::vector<std::string> argStore{cubeaoBinary()};
     argStore.insert(argStore.end(), spec.args.begin(), spec.args.end());
     std::vector<char*> argv;
     for (std::string& a : argStore) argv.push_back(a.data());

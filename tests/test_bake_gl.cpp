@@ -25,6 +25,7 @@
 #include "bake_test_settings.h"
 #include "gl_fixture.h"
 #include "test_util.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -196,7 +197,7 @@ void expectTracedTwin(const Scene& scene, const glm::vec3& probe, float radius, 
 TEST_F(GlTest, TracedPassMatchesEmbreeOnBoxRoom) { expectTracedTwin(boxRoom(), kBoxProbe, 1.0f, 32, 32); }
 
 TEST_F(GlTest, TracedPassMatchesEmbreeOnSibenik) {
-    const fs::path file = fs::path(CUBEAO_SHARED_DIR) / "scenes/sibenik/sibenik.obj";
+    const fs::path file = fs::path(cubeao::test::sharedDir()) / "scenes/sibenik/sibenik.obj";
     if (!fs::exists(file)) GTEST_SKIP() << file << " not found (../shared scenes absent)";
     const Scene scene = loadScene(file.string());
     expectTracedTwin(scene, {18.0f, 2.5f, 0.3f}, 3.0f, 16, 16);  // in the nave, near the walk's start

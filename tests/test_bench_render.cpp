@@ -13,6 +13,7 @@
 #include "cubeao/cache/synthetic_probes.h"
 #include "cubeao/core/error.h"
 #include "gl_fixture.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -159,7 +160,7 @@ TEST(SyntheticProbes, FarDistancesNonZeroConfidenceSharedRoundRobin) {
 // loop (no glFinish per pass, timer queries collected frames later), whose times mean nothing here,
 // so only its bookkeeping is checked.
 CliRun runGpuBench(const std::string& args) {
-    return runCommand(std::string(CUBEAO_GPUBENCH_BINARY) + " " + args + " 2>/dev/null");
+    return runCommand(std::string(cubeao::test::gpubenchBinary()) + " " + args + " 2>/dev/null");
 }
 
 TEST(GpuBenchCli, UsageErrors) {

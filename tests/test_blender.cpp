@@ -15,6 +15,7 @@
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/camera_path.h"
 #include "test_util.h"
+#include "test_paths.h"
 
 namespace cubeao {
 namespace {
@@ -48,8 +49,8 @@ TEST(Blender, ReferenceWithAntiAliasingMatchesCyclesAoPass) {
     // ASan runtime, whose leak check would report Python's allocations and abort it.
     const test::CliRun r = test::runCommand("timeout 600 env -u LD_PRELOAD -u ASAN_OPTIONS -u LSAN_OPTIONS "
                                             "-u UBSAN_OPTIONS blender -b --factory-startup -noaudio "
-                                            "--python-exit-code 1 --python " CUBEAO_SOURCE_DIR
-                                            "/tools/blender_ao.py -- " + obj + " " + camera + " " +
+                                            "--python-exit-code 1 --python " +
+                                            std::string(test::sourceDir()) + "/tools/blender_ao.py -- " + obj + " " + camera + " " +
                                             dir.path().string() + options + " 2>&1");
     ASSERT_EQ(r.code, 0) << r.out;
     const std::string exr = (dir.path() / "ao_0000.exr").string();

@@ -15,6 +15,7 @@
 #include "cubeao/core/error.h"
 #include "cubeao/scene/camera_path.h"
 #include "test_util.h"
+#include "test_paths.h"
 
 namespace fs = std::filesystem;
 using namespace cubeao;
@@ -251,7 +252,7 @@ TEST(CameraPathFile, MissingFileNamesThePath) {
 }
 
 TEST(CameraPathFile, SibenikWalk) {
-    const fs::path file = fs::path(CUBEAO_SHARED_DIR) / "scenes/sibenik/walk.json";
+    const fs::path file = fs::path(cubeao::test::sharedDir()) / "scenes/sibenik/walk.json";
     if (!fs::exists(file)) GTEST_SKIP() << file << " is absent (see ../shared/scenes/README.md)";
     const CameraPath p = readCameraPath(file);
     EXPECT_EQ(p.scene, "sibenik.obj");

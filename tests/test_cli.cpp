@@ -28,6 +28,7 @@
 #include "cubeao/metrics/image_io.h"
 #include "cli_run.h"
 #include "test_util.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -536,7 +537,7 @@ std::vector<InfoRun> runInfoLimited(const std::vector<fs::path>& files, std::siz
                 const int devNull = open("/dev/null", O_WRONLY);
                 dup2(devNull, 1);
                 dup2(devNull, 2);
-                execl(CUBEAO_BINARY, CUBEAO_BINARY, "info", files[next].c_str(), static_cast<char*>(nullptr));
+                execl(cubeao::test::cubeaoBinary(), cubeao::test::cubeaoBinary(), "info", files[next].c_str(), static_cast<char*>(nullptr));
                 _exit(127);
             }
             running[pid] = {next++, Clock::now()};
@@ -651,7 +652,7 @@ TEST(CliFormats, OneModelOfEachAssimpFormatImports) {
         });
         std::string imported, lastError;
         for (const fs::path& f : files) {
-            const CliRun r = cubeao::test::runCommand("timeout 60 " + std::string(CUBEAO_BINARY) + " info '" +
+            const CliRun r = cubeao::test::runCommand("timeout 60 " + std::string(cubeao::test::cubeaoBinary()) + " info '" +
                                                       f.string() + "' --json 2>&1");
             if (r.code == 0 && lastLine(r.out).value("triangles", 0) > 0) {
                 imported = f.string() + ": " + std::to_string(lastLine(r.out).value("triangles", 0)) + " triangles";

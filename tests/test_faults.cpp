@@ -24,6 +24,7 @@
 #include "cubeao/bake/bake_cache.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/gl/context.h"
+#include "test_paths.h"
 #include "test_util.h"
 
 namespace {
@@ -236,7 +237,7 @@ bool haveGl(std::string* why) { return cubeao::gl::HeadlessContext::tryCreate(wh
 // A copy of the shader directory for one fault.
 fs::path copyShaders(const TempDir& dir, const std::string& name) {
     const fs::path copy = dir / name;
-    fs::copy(CUBEAO_SHADER_DIR, copy, fs::copy_options::recursive);
+    fs::copy(fs::path(cubeao::test::sourceDir()) / "shaders", copy, fs::copy_options::recursive);
     return copy;
 }
 

@@ -20,6 +20,7 @@
 #include "cubeao/scene/import.h"
 #include "cubeao/scene/scene.h"
 #include "test_util.h"
+#include "test_paths.h"
 
 namespace fs = std::filesystem;
 using namespace cubeao;
@@ -553,7 +554,7 @@ TEST(ImportBuiltin, UnknownNameListsTheNames) {
 // ---- real scenes -------------------------------------------------------------------------------
 
 TEST(ImportRealScene, Sibenik) {
-    const fs::path path = fs::path(CUBEAO_SHARED_DIR) / "scenes/sibenik/sibenik.obj";
+    const fs::path path = fs::path(cubeao::test::sharedDir()) / "scenes/sibenik/sibenik.obj";
     if (!fs::exists(path)) GTEST_SKIP() << path << " is absent (see ../shared/scenes/README.md)";
     const Scene s = loadScene(path.string());
     expectWellFormed(s);

@@ -17,6 +17,7 @@
 #include "cubeao/metrics/image_io.h"
 #include "cubeao/metrics/image_metrics.h"
 #include "test_util.h"
+#include "test_paths.h"
 
 namespace fs = std::filesystem;
 using namespace cubeao;
@@ -338,13 +339,12 @@ TEST(CompareDirs, NonFiniteValuesAreRefused) {
     EXPECT_NE(msg.find("(3, 2)"), std::string::npos) << msg;
 }
 
-#ifdef CUBEAO_BINARY
 // The CLI end to end: table, then the JSON object as the last line; a missing directory exits 1.
 TEST(CompareCli, PrintsJsonLastAndFailsOnMissingDirs) {
     TempDir a("cliA"), b("cliB");
     writeExr(a / "ao_0000.exr", Image(kW, kH, 0.5f));
     writeExr(b / "ao_0000.exr", Image(kW, kH, 0.6f));
-    const std::string cmd = std::string(CUBEAO_BINARY) + " compare '" + a.path().string() + "' '" +
+    const std::string cmd = std::string(cubeao::test::cubeaoBinary()) + " compare '" + a.path().string() + "' '" +
                             b.path().string() + "' --json";
     FILE* p = ::popen(cmd.c_str(), "r");
     ASSERT_NE(p, nullptr);
@@ -358,8 +358,7 @@ TEST(CompareCli, PrintsJsonLastAndFailsOnMissingDirs) {
     EXPECT_NEAR(j.at("mae").get<double>(), 0.1, 1e-6);
     EXPECT_EQ(j.at("frames").size(), 1u);
 
-    const std::string bad = std::string(CUBEAO_BINARY) + " compare '" + (a / "nope").string() + "' '" +
+    const std::string bad = std::string(cubeao::test::cubeaoBinary()) + " compare '" + (a / "nope").string() + "' '" +
                             b.path().string() + "' 2>/dev/null";
     EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 1);
 }
-#endif

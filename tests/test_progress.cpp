@@ -8,6 +8,7 @@
 #include "cli_run.h"
 #include "cubeao/core/progress.h"
 #include "test_util.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -75,7 +76,7 @@ TEST(Progress, BarRedrawsInPlace) {
 TEST(Progress, ReferenceReportsLinesToALog) {
     cubeao::test::TempDir dir;
     const cubeao::test::CliRun r = cubeao::test::runCommand(
-        "CUBEAO_PROGRESS=lines CUBEAO_PROGRESS_SECONDS=0 " + std::string(CUBEAO_BINARY) +
+        "CUBEAO_PROGRESS=lines CUBEAO_PROGRESS_SECONDS=0 " + std::string(cubeao::test::cubeaoBinary()) +
         " reference builtin:box-room --frames 0:2 --width 24 --height 16 --spp 2 --out " + dir.path().string() +
         " 2>&1 >/dev/null");
     ASSERT_EQ(r.code, 0) << r.out;

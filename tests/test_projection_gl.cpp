@@ -32,6 +32,7 @@
 #include "bake_test_settings.h"
 #include "gl_fixture.h"
 #include "test_util.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -60,7 +61,7 @@ TEST_F(GlTest, ProbeProjectionMatchesTheCpuTwin) {
     test::TempDir dir;
     const std::string probes = dir.write("probes.json", R"({"version":1,"probes":[{"pos":[3,1.4,2.5]},{"pos":[6,1.5,1.5]},{"pos":[2,1.2,4.5]}]})");
     const std::string cacheFile = (dir.path() / "c.cubeao").string();
-    const std::string cmd = std::string(CUBEAO_BINARY) + " bake builtin:box-room --probes " + probes + " --out " +
+    const std::string cmd = std::string(cubeao::test::cubeaoBinary()) + " bake builtin:box-room --probes " + probes + " --out " +
                             cacheFile + " --res 16 --spp 16 --radius 1 --device cpu > /dev/null 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
 

@@ -17,6 +17,7 @@
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scenes/builtin_scenes.h"
 #include "test_util.h"
+#include "test_paths.h"
 
 namespace cubeao {
 namespace {
@@ -28,7 +29,7 @@ using test::errorMessage;
 // Why the town cannot be built here, or "" when the models and the Sibenik walk are present.
 std::string missingModel() {
     const char* env = std::getenv("CUBEAO_SHARED_DIR");
-    const fs::path shared = env != nullptr && *env != '\0' ? fs::path(env) : fs::path(CUBEAO_SHARED_DIR);
+    const fs::path shared = env != nullptr && *env != '\0' ? fs::path(env) : fs::path(cubeao::test::sharedDir());
     for (const fs::path& f : {shared / "scenes/sibenik/sibenik.obj", shared / "scenes/sibenik/walk.json",
                               fs::path("/usr/share/assimp/models/IFC/AC14-FZK-Haus.ifc")})
         if (!fs::exists(f)) return f.string() + " is absent (see ../shared/scenes/README.md)";

@@ -22,6 +22,7 @@
 #include "cubeao/metrics/image_io.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/import.h"
+#include "test_paths.h"
 
 namespace cubeao::viewer {
 namespace {
@@ -114,7 +115,7 @@ protected:
     ProgramRun view(const std::string& args, const std::string& script) {
         const fs::path file = dir_ / "script.txt";
         std::ofstream(file) << script;
-        const ProgramRun r = runProgram(std::string(CUBEAO_VIEW_BINARY) + " " + args + " --width 320 --height 240 --script " +
+        const ProgramRun r = runProgram(std::string(cubeao::test::viewerBinary()) + " " + args + " --width 320 --height 240 --script " +
                                  file.string() + " --stats " + (dir_ / "stats.json").string());
         EXPECT_EQ(r.code, 0) << r.out;
         EXPECT_EQ(r.out.find("[error]"), std::string::npos) << r.out;
@@ -141,7 +142,7 @@ TEST_F(ViewerWindow, ScreenshotMatchesRender) {
     view("builtin:cloister --cache " + cache.string(),
          "size 160 90\npath 0\nframes 2\nplay 1 6\nframes 2\nscreenshot " + (dir_ / "view.exr").string() +
              "\nscreenshot " + (dir_ / "view.png").string() + "\nquit\n");
-    const ProgramRun render = runProgram(std::string(CUBEAO_BINARY) + " render builtin:cloister --cache " + cache.string() +
+    const ProgramRun render = runProgram(std::string(cubeao::test::cubeaoBinary()) + " render builtin:cloister --cache " + cache.string() +
                                   " --frames 5:6 --width 160 --height 90 --out " + (dir_ / "render").string());
     ASSERT_EQ(render.code, 0) << render.out;
 
@@ -169,7 +170,7 @@ TEST_F(ViewerWindow, EveryViewModeRendersWithoutGlErrors) {
     const std::vector<glm::vec3> probes = {path.frames[0].eye, path.frames[path.frames.size() / 2].eye};
     test::bakeCache(scene, probes, test::bakeSettings(Estimator::HorizonSplit, 16, scene.defaultRadius(), 0), cache);
     // A reference for the difference mode: the render itself stands in (the mode only needs an image).
-    const ProgramRun render = runProgram(std::string(CUBEAO_BINARY) + " render builtin:box-room --cache " + cache.string() +
+    const ProgramRun render = runProgram(std::string(cubeao::test::cubeaoBinary()) + " render builtin:box-room --cache " + cache.string() +
                                   " --frames 2:3 --width 96 --height 54 --out " + (dir_ / "ref").string());
     ASSERT_EQ(render.code, 0) << render.out;
     std::string script = "size 96 54\npath 2\nframes 1\n";
@@ -240,7 +241,7 @@ TEST_F(ViewerWindow, LivePlacementOnTheErrorFromNoProbes) {
     EXPECT_EQ(CacheReader(saved).probeCount(), live["placed"].get<std::size_t>());
 
     const ProgramRun bad =
-        runProgram(std::string(CUBEAO_VIEW_BINARY) + " builtin:box-room --live --live-objective pixels");
+        runProgram(std::string(cubeao::test::viewerBinary()) + " builtin:box-room --live --live-objective pixels");
     EXPECT_NE(bad.code, 0);
     EXPECT_NE(bad.out.find("--live-objective"), std::string::npos) << bad.out;
 }
@@ -264,7 +265,7 @@ TEST_F(ViewerWindow, LivePlacementFromNoProbes) {
     CacheReader reader(saved);
     EXPECT_EQ(reader.probeCount(), live["placed"].get<std::size_t>());
     EXPECT_NO_THROW(reader.verifyAll());
-    const ProgramRun info = runProgram(std::string(CUBEAO_BINARY) + " info " + saved.string() + " --verify");
+    const ProgramRun info = runProgram(std::string(cubeao::test::cubeaoBinary()) + " info " + saved.string() + " --verify");
     EXPECT_EQ(info.code, 0) << info.out;
 }
 

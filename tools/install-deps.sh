@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config python3
+  ccache                               # compiler cache: CI's builds reuse the session's objects (CMakeLists.txt)
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri   # headless GL on Mesa (llvmpipe)
   libglfw3-dev libimgui-dev xvfb xauth                              # viewer window, panel; tested under Xvfb
   libglm-dev libopenmesh-dev libassimp-dev assimp-testmodels
