@@ -50,7 +50,11 @@ install(DIRECTORY src/cubeao/core src/cubeao/gl src/cubeao/cache src/cubeao/runt
 install(DIRECTORY src/cubeao/scene src/cubeao/reference src/cubeao/metrics src/cubeao/bake
                   scenes/include/cubeao/scenes placement/include/cubeao/placement
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/cubeao
-  FILES_MATCHING PATTERN "*.h" PATTERN "soup_importer.h" EXCLUDE)  # soup_importer.h: private (OpenMesh)
+  FILES_MATCHING PATTERN "*.h" PATTERN "soup_importer.h" EXCLUDE    # soup_importer.h: private (OpenMesh)
+  PATTERN "oiio_module.h" EXCLUDE)                                   # the image plugin's private table
+# The image plugin that cubeao_metrics loads at run time (metrics/oiio_module.h), where oiio_loader.cpp
+# looks for it.
+install(TARGETS cubeao_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/cubeao)
 install(DIRECTORY shaders/ DESTINATION ${CMAKE_INSTALL_DATADIR}/cubeao/shaders)
 
 configure_package_config_file(cmake/cubeao-config.cmake.in "${CMAKE_CURRENT_BINARY_DIR}/cubeao-config.cmake"

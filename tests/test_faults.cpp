@@ -322,6 +322,37 @@ TEST(Faults, NoGlContextIsReportedAndTheCpuPathWorks) {
     }
 }
 
+// The image plugin (metrics/oiio_module.h) missing, or a library that is not it: a command that
+// writes images ends with exit 1 naming the path it tried and the variable that overrides it, and
+// leaves no frame behind; the plugin of this build, found without the variable, writes them.
+TEST(Faults, MissingImagePluginNamesThePath) {
+    TempDir dir("faults");
+    const auto reference = [&](const std::string& out) {
+        return "reference builtin:box-room --frames 0:1 --width 16 --height 12 --spp 4 --out " + (dir / out).string();
+    };
+    const auto with = [](const std::string& module) {
+        ChildSpec spec;
+        spec.env = {{"CUBEAO_OIIO_MODULE", module}};
+        return spec;
+    };
+    const std::string absent = (dir / "absent" / "libcubeao_oiio.so").string();
+    ChildRun r = cubeao(reference("absent"), with(absent));
+    EXPECT_TRUE(r.exited && r.code == 1) << r.describe() << "\n" << r.err;
+    EXPECT_TRUE(contains(r.err, "cannot load cubeao's image module")) << r.err;
+    EXPECT_TRUE(contains(r.err, absent + ": ")) << r.err;
+    EXPECT_TRUE(contains(r.err, "set CUBEAO_OIIO_MODULE")) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "absent" / "ao_0000.exr"));
+
+    // A shared library that loads but is not the plugin (libm: always there, no cubeao_oiio_api).
+    r = cubeao(reference("other"), with("libm.so.6"));
+    EXPECT_TRUE(r.exited && r.code == 1) << r.describe() << "\n" << r.err;
+    EXPECT_TRUE(contains(r.err, "libm.so.6: not this build's image module")) << r.err;
+
+    r = cubeao(reference("found"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "found" / "ao_0000.exr"));
+}
+
 // A GL error is counted and its text kept, so `cubeao` (main.cpp) ends a command that hit one with exit
 // 1 and the error's text, rather than report results computed after it. (No CLI run provokes one
 // on purpose, so the count is checked in process: an invalid call on a context of our own.)

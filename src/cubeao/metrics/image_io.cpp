@@ -1,8 +1,7 @@
-// AO image files through OpenImageIO; conventions are documented in image_io.h.
+// AO image files through OpenImageIO, loaded as a plugin (oiio_module.h); conventions are
+// documented in image_io.h.
 #include "cubeao/metrics/image_io.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,6 +12,7 @@
 #include <system_error>
 
 #include "cubeao/core/error.h"
+#include "cubeao/metrics/oiio_module.h"
 
 namespace cubeao {
 namespace fs = std::filesystem;
@@ -38,16 +38,13 @@ fs::path temporaryPathFor(const fs::path& target) {
     return target.parent_path() / name;
 }
 
-// Writes `pixels` (laid out as `spec` says, in `type`) to a temporary file, then renames it over
-// `path`. The writer is chosen from `path`'s extension, not the temporary name's.
-void writeAtomically(const fs::path& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* pixels) {
-    auto out = OIIO::ImageOutput::create(path.string());
-    if (!out)
-        throw Error("cannot write " + quoted(path) + ": " + OIIO::geterror());
+// Writes `pixels` (laid out as `spec` says) to a temporary file, then renames it over `path`. The
+// writer is chosen from `path`'s extension, not the temporary name's.
+void writeAtomically(const fs::path& path, const oiio::WriteSpec& spec, const void* pixels) {
+    const oiio::Api& io = oiio::api();
     const fs::path tmp = temporaryPathFor(path);
-    const bool ok = out->open(tmp.string(), spec) && out->write_image(type, pixels) && out->close();
-    if (!ok) {
-        const std::string why = out->geterror();
+    const std::string why = io.write(path.c_str(), tmp.c_str(), spec, pixels);
+    if (!why.empty()) {
         std::error_code ignored;
         fs::remove(tmp, ignored);
         throw Error("cannot write " + quoted(path) + ": " + why);
@@ -81,31 +78,21 @@ std::vector<std::uint8_t> toBytes(const std::vector<float>& values) {
 
 void writeExr(const fs::path& path, const Image& image) {
     checkSize(path, image.width, image.height);
-    OIIO::ImageSpec spec(image.width, image.height, 1, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = {"Y"};
-    spec.attribute("compression", "zip");
-    writeAtomically(path, spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
+    writeAtomically(path, {image.width, image.height, 1, oiio::Pixel::F32, true}, image.pixels.data());
 }
 
 Image readImage(const fs::path& path) {
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in)
-        throw Error("cannot read image " + quoted(path) + ": " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    if (spec.deep || spec.width <= 0 || spec.height <= 0 || spec.nchannels < 1 || spec.depth > 1)
-        throw Error("cannot read image " + quoted(path) + ": not a flat 2D image with at least one channel");
-    Image image(spec.width, spec.height);
-    // Channel 0 only: an RGB(A) file written by another tool still yields its first channel.
-    if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, image.pixels.data()))
-        throw Error("cannot read image " + quoted(path) + ": " + in->geterror());
+    Image image;
+    const std::string why = oiio::api().readFirstChannel(path.c_str(), &image.width, &image.height, &image.pixels);
+    if (!why.empty())
+        throw Error("cannot read image " + quoted(path) + ": " + why);
     return image;
 }
 
 void writePng(const fs::path& path, const Image& image) {
     checkSize(path, image.width, image.height);
     const auto bytes = toBytes(image.pixels);
-    writeAtomically(path, OIIO::ImageSpec(image.width, image.height, 1, OIIO::TypeDesc::UINT8),
-                    OIIO::TypeDesc::UINT8, bytes.data());
+    writeAtomically(path, {image.width, image.height, 1, oiio::Pixel::U8, false}, bytes.data());
 }
 
 void writePngRgb(const fs::path& path, int width, int height, const std::vector<float>& rgb) {
@@ -114,8 +101,7 @@ void writePngRgb(const fs::path& path, int width, int height, const std::vector<
         throw Error("cannot write " + quoted(path) + ": " + std::to_string(rgb.size()) + " values for a " +
                     std::to_string(width) + "x" + std::to_string(height) + " RGB image");
     const auto bytes = toBytes(rgb);
-    writeAtomically(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), OIIO::TypeDesc::UINT8,
-                    bytes.data());
+    writeAtomically(path, {width, height, 3, oiio::Pixel::U8, false}, bytes.data());
 }
 
 std::vector<unsigned char> encodePng(int width, int height, int channels, const std::vector<float>& values) {
@@ -125,15 +111,9 @@ std::vector<unsigned char> encodePng(int width, int height, int channels, const 
                     "x" + std::to_string(height) + "x" + std::to_string(channels) + " image");
     const auto bytes = toBytes(values);
     std::vector<unsigned char> png;
-    OIIO::Filesystem::IOVecOutput proxy(png);
-    auto out = OIIO::ImageOutput::create("png");
-    if (!out)
-        throw Error("cannot encode PNG: " + OIIO::geterror());
-    out->set_ioproxy(&proxy);
-    const bool ok = out->open("memory.png", OIIO::ImageSpec(width, height, channels, OIIO::TypeDesc::UINT8)) &&
-                    out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) && out->close();
-    if (!ok)
-        throw Error("cannot encode PNG: " + out->geterror());
+    const std::string why = oiio::api().encodePng(width, height, channels, bytes.data(), &png);
+    if (!why.empty())
+        throw Error("cannot encode PNG: " + why);
     return png;
 }
 

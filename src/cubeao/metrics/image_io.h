@@ -1,5 +1,5 @@
-// Reading and writing AO images through OpenImageIO (kept out of this header so that only
-// cubeao_offline sees OIIO). Every error is a cubeao::Error that names the file.
+// Reading and writing AO images through OpenImageIO, which is loaded as a plugin on the first call
+// (oiio_module.h: not linked, so programs start fast). Every error is a cubeao::Error that names the file.
 //
 // File conventions (DESIGN.md §5):
 //  - EXR: one FLOAT channel named "Y" (OpenEXR's name for a luminance-only image, so viewers show

@@ -1,7 +1,6 @@
 // Image and sequence metrics; definitions and conventions are in image_metrics.h.
 #include "cubeao/metrics/image_metrics.h"
 
-#include <OpenImageIO/imagebufalgo.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -15,6 +14,7 @@
 
 #include "cubeao/core/error.h"
 #include "cubeao/metrics/image_io.h"
+#include "cubeao/metrics/oiio_module.h"
 
 namespace cubeao {
 namespace fs = std::filesystem;
@@ -28,12 +28,6 @@ void requireSameSize(const Image& a, const Image& b, const char* what) {
         throw Error(std::string(what) + ": image sizes differ: " + sizeString(a) + " vs " + sizeString(b));
     if (a.empty())
         throw Error(std::string(what) + ": images are empty");
-}
-
-// Wraps an Image's pixels for ImageBufAlgo without copying (read-only use: compare()).
-OIIO::ImageBuf wrap(const Image& im) {
-    OIIO::ImageSpec spec(im.width, im.height, 1, OIIO::TypeDesc::FLOAT);
-    return OIIO::ImageBuf(spec, const_cast<float*>(im.pixels.data()));
 }
 
 // ---- SSIM (Wang et al. 2004) -------------------------------------------------------------------
@@ -180,14 +174,13 @@ double psnrFromRmse(double rmse) {
 
 ImageDiff imageDiff(const Image& a, const Image& b) {
     requireSameSize(a, b, "imageDiff");
-    const OIIO::ImageBuf bufA = wrap(a), bufB = wrap(b);
-    // Thresholds only count warnings/failures, which we do not use.
-    const auto r = OIIO::ImageBufAlgo::compare(bufA, bufB, 1.0f, 1.0f);
-    if (r.error)
-        throw Error("imageDiff: OpenImageIO compare failed: " + OIIO::geterror());
+    double mean = 0.0, rms = 0.0;
+    const std::string why = oiio::api().compare(a.pixels.data(), b.pixels.data(), a.width, a.height, &mean, &rms);
+    if (!why.empty())
+        throw Error("imageDiff: OpenImageIO compare failed: " + why);
     // OIIO's PSNR is the same 20 log10(1/rms) for peak 1; recompute it so the rms = 0 case follows
     // our documented +infinity convention.
-    return {r.meanerror, r.rms_error, psnrFromRmse(r.rms_error)};
+    return {mean, rms, psnrFromRmse(rms)};
 }
 
 double ssim(const Image& a, const Image& b) {
