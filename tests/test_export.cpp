@@ -463,7 +463,7 @@ TEST_F(ExportTest, RefusesBadInputAndLeavesNothingBehind) {
     spec.fileSizeLimit = 3000;  // probe 0's distance file (916 bytes) is written, its AO file (6292) fails
     cubeao::test::ChildRun c = cubeao::test::runChild(spec);
     EXPECT_TRUE(c.exited && c.code == 1) << c.describe() << c.err;
-    EXPECT_TRUE(contains(c.err, "cannot export")) << c.err;
+    EXPECT_TRUE(contains(c.err, "probe_0000_ao.dds: cannot write export file: write")) << c.err;
     EXPECT_FALSE(fs::exists(out));
     const fs::path kept = dir / "kept";
     dir.write("kept/manifest.json", "{\"old\": true}");

@@ -7,7 +7,6 @@
 #include <deque>
 #include <filesystem>
 #include <iterator>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <optional>
@@ -29,6 +28,7 @@
 #include "cubeao-view/view_modes.h"
 #include "cubeao/bake/bake_settings.h"
 #include "cubeao/cache/cache_file.h"
+#include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/window.h"
@@ -992,9 +992,7 @@ int Viewer::run() {
     }
     if (live_) spdlog::info("cubeao-view: live placement: {} probes placed, {} baked, {} re-baked",
                             live_->stats().placed, live_->stats().baked, live_->stats().rebaked);
-    if (!o_.statsJson.empty()) {
-        std::ofstream(o_.statsJson) << summary().dump(2) << "\n";
-    }
+    if (!o_.statsJson.empty()) writeFileDurably(o_.statsJson, summary().dump(2) + "\n", "statistics");
     return 0;
 }
 

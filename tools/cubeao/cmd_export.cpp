@@ -4,21 +4,15 @@
 // is in file coordinates, and the bake parameters. The BC blocks are copied, never re-encoded, and
 // need no flip or reorder (cache/texture_export.h says why).
 //
-// Nothing half-written is left behind: every file is written into a staging directory inside DIR
-// (".cubeao-export.tmp-PID-RANDOM", removed on any failure), fsynced, and only when all of them are
+// Nothing half-written is left behind: every file is written to a hidden temporary file beside its
+// target (core/durable_file.h; removed on any failure), fsynced, and only when all of them are
 // complete renamed into DIR, manifest.json last. A DIR with a manifest therefore holds every file the
 // manifest names; files of an earlier export into DIR are replaced one by one, each atomically.
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <random>
 
 #include "cache_json.h"
 #include "cli_util.h"
@@ -26,6 +20,7 @@
 #include "cubeao/bake/bake_settings.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/cache/texture_export.h"
+#include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
 #include "cubeao/core/falloff.h"
 #include "cubeao/core/progress.h"
@@ -46,9 +41,8 @@ struct ExportArgs {
     bool json = false;
 };
 
-std::string systemError() { return std::strerror(errno); }
-
-// The files of one export, staged in a hidden directory inside DIR until all are written.
+// The files of one export: each written and fsynced through a DurableFile (its hidden temporary name
+// beside its target in DIR), and renamed into place only when all of them are complete.
 class Staging {
 public:
     explicit Staging(const fs::path& dir) : dir_(dir) {
@@ -57,77 +51,35 @@ public:
             throw Error(dir.string() + ": cannot export there: it exists and is not a directory");
         createdDir_ = fs::create_directories(dir, ec);
         if (ec) throw Error(dir.string() + ": cannot create the output directory: " + ec.message());
-        std::random_device rd;
-        for (int attempt = 0; attempt < 100; ++attempt) {
-            stage_ = dir / (".cubeao-export.tmp-" + std::to_string(::getpid()) + "-" + std::to_string(rd()));
-            if (::mkdir(stage_.c_str(), 0777) == 0) return;
-            if (errno != EEXIST) break;
-        }
-        const std::string why = systemError();
-        cleanup();
-        throw Error(dir.string() + ": cannot write into the output directory: " + why);
     }
     ~Staging() {
-        if (!committed_) cleanup();
+        files_.clear();  // removes the temporary files of an export that did not commit
+        std::error_code ec;
+        if (!committed_ && createdDir_) fs::remove(dir_, ec);  // only when empty: remove() refuses otherwise
     }
     Staging(const Staging&) = delete;
     Staging& operator=(const Staging&) = delete;
 
-    // Writes `name` into the staging directory: complete and fsynced, or an Error naming it.
+    // Writes `name`: complete and fsynced, not yet visible, or an Error naming it.
     void write(const std::string& name, std::span<const std::uint8_t> bytes) {
-        const fs::path p = stage_ / name;
-        const int fd = ::open(p.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd < 0) fail(name, "create");
-        std::size_t done = 0;
-        while (done < bytes.size()) {
-            const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-            if (n < 0 && errno == EINTR) continue;
-            if (n <= 0) {
-                const int e = n < 0 ? errno : EIO;
-                ::close(fd);
-                errno = e;
-                fail(name, "write");
-            }
-            done += std::size_t(n);
-        }
-        if (::fsync(fd) != 0) {
-            const int e = errno;
-            ::close(fd);
-            errno = e;
-            fail(name, "fsync");
-        }
-        if (::close(fd) != 0) fail(name, "close");
-        names_.push_back(name);
+        DurableFile& file = files_.emplace_back(dir_ / name, "export file");
+        file.write(std::as_bytes(bytes));
+        file.finish();
         bytes_ += bytes.size();
     }
 
     // Renames every staged file into DIR in the order written (the manifest last), then syncs DIR.
     void commit() {
-        for (const std::string& name : names_)
-            if (::rename((stage_ / name).c_str(), (dir_ / name).c_str()) != 0) fail(name, "rename into place");
+        for (DurableFile& file : files_) file.publish();
         committed_ = true;
-        std::error_code ec;
-        fs::remove(stage_, ec);
-        if (const int fd = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); fd >= 0) {
-            ::fsync(fd);  // the renames are durable; a failure here loses nothing already renamed
-            ::close(fd);
-        }
+        syncDirectoryOf(dir_ / "manifest.json");
     }
 
     std::uint64_t bytes() const { return bytes_; }
 
 private:
-    [[noreturn]] void fail(const std::string& name, const char* what) const {
-        throw Error((dir_ / name).string() + ": cannot export: " + what + ": " + systemError());
-    }
-    void cleanup() {
-        std::error_code ec;
-        if (!stage_.empty()) fs::remove_all(stage_, ec);
-        if (createdDir_) fs::remove(dir_, ec);  // only when still empty: remove() refuses otherwise
-    }
-
-    fs::path dir_, stage_;
-    std::vector<std::string> names_;
+    fs::path dir_;
+    std::deque<DurableFile> files_;
     std::uint64_t bytes_ = 0;
     bool createdDir_ = false, committed_ = false;
 };

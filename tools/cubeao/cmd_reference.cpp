@@ -2,12 +2,12 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
 #include <spdlog/spdlog.h>
 
 #include "cli_util.h"
 #include "commands.h"
+#include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
 #include "cubeao/core/progress.h"
 #include "cubeao/metrics/image_io.h"
@@ -96,7 +96,7 @@ void run(const ReferenceArgs& a) {
                              {"bvh_build_s", buildSeconds},
                              {"trace_s", traceSeconds},
                              {"out", a.out}};
-    std::ofstream(fs::path(a.out) / "reference.json") << result.dump(1) << '\n';
+    writeFileDurably(fs::path(a.out) / "reference.json", result.dump(1) + "\n");
     std::printf("reference: %zu frames -> %s, %.2f Mrays/s, noise (std. error) %.4f\n", range.size(),
                 a.out.c_str(), raysPerSecond * 1e-6, noiseSum / double(range.size()));
     if (a.json) printJson(result);

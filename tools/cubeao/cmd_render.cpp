@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -17,6 +16,7 @@
 #include "render_setup.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/runtime/probe_projection.h"
+#include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
 #include "cubeao/core/progress.h"
 #include "cubeao/gl/context.h"
@@ -210,7 +210,7 @@ void run(const RenderArgs& a) {
         result["residency"]["gpu_budget_mb"] = a.gpuBudgetMb;
         result["residency"]["fallback"] = a.fallback;
     }
-    std::ofstream(fs::path(a.out) / "render.json") << result.dump(1) << '\n';
+    writeFileDurably(fs::path(a.out) / "render.json", result.dump(1) + "\n");
     std::printf("render: %s, %zu frames -> %s; median ms: G-buffer %.2f, AO %.2f, blur %.2f, composite %.2f, "
                 "read-back %.2f (%s); %.1f fetches/pixel\n",
                 renderer.method().name(), range.size(), a.out.c_str(), medians["gbuffer"].get<double>(),

@@ -4,7 +4,6 @@
 // the file can be mailed or archived and opens without a network. Per run, in the order a lead reads:
 // the headline table, frames side by side with error heat maps, per-frame MAE and flicker charts, bake
 // and render timings, and the probes over a top-down view of the scene coloured by the error each removed.
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,6 +26,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
+#include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
 #include "cubeao/metrics/image_io.h"
 #include "cubeao/metrics/image_metrics.h"
@@ -897,22 +897,7 @@ void writeAtomically(const fs::path& out, const std::string& text) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
         throw Error("cannot write " + out.string() + ": " + dir.string() + " is not a directory");
-    const fs::path tmp = dir / ("." + out.filename().string() + ".tmp-" + std::to_string(::getpid()));
-    {
-        std::ofstream f(tmp, std::ios::binary);
-        f.write(text.data(), std::streamsize(text.size()));
-        f.close();
-        if (!f) {
-            fs::remove(tmp, ec);
-            throw Error("cannot write " + out.string() + " (through " + tmp.string() + ")");
-        }
-    }
-    fs::rename(tmp, out, ec);
-    if (ec) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw Error("cannot write " + out.string() + ": rename from the temporary file failed: " + ec.message());
-    }
+    writeFileDurably(out, text, "report");
 }
 
 void runReport(const ReportOptions& opt) {

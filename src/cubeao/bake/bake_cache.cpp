@@ -12,6 +12,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
 
 namespace cubeao {
@@ -77,7 +78,7 @@ std::optional<std::size_t> partNumber(const std::string& name, const std::string
 }
 
 // The writer's process id when `name` is the temporary file of a writeCache for the output `outName` or
-// for one of its parts (temporaryCacheWriter); 0 otherwise.
+// for one of its parts (temporaryFileWriter); 0 otherwise.
 pid_t tempFileOwner(const std::string& name, const std::string& outName) {
     const std::string prefix = "." + outName;
     if (name.compare(0, prefix.size(), prefix) != 0) return 0;
@@ -85,7 +86,7 @@ pid_t tempFileOwner(const std::string& name, const std::string& outName) {
     if (tmp == std::string::npos) return 0;
     const std::string target = name.substr(1, tmp - 1);
     if (target != outName && !partNumber(target, outName + ".part-")) return 0;
-    return pid_t(temporaryCacheWriter(name, target));
+    return pid_t(temporaryFileWriter(name, target));
 }
 
 double msSince(std::chrono::steady_clock::time_point start) {

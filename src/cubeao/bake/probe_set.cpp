@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
 
 namespace cubeao {
@@ -62,15 +63,7 @@ void writeProbeSet(const std::filesystem::path& file, const std::vector<ProbeSpe
         if (p.gain >= 0.0) probe["gain"] = p.gain;
         j["probes"].push_back(std::move(probe));
     }
-    const std::filesystem::path tmp = file.string() + ".tmp";
-    {
-        std::ofstream out(tmp);
-        out << j.dump(1) << "\n";
-        if (!out) throw Error(tmp.string() + ": cannot write");
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, file, ec);
-    if (ec) throw Error(file.string() + ": cannot replace (" + ec.message() + ")");
+    writeFileDurably(file, j.dump(1) + "\n", "probe set");
 }
 
 std::vector<ProbeSpec> probesAlongPath(const CameraPath& path, std::size_t count) {

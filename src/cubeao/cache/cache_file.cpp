@@ -18,9 +18,9 @@
 #include <cstring>
 #include <limits>
 #include <map>
-#include <random>
 #include <utility>
 
+#include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
 #include "cubeao/core/progress.h"
 
@@ -138,61 +138,10 @@ std::uint64_t hashProbe(std::span<const std::uint8_t> ao, std::span<const std::u
 
 // ---- writing ----------------------------------------------------------------------------------------
 
-// ".TARGET.tmp-": hidden, and named after the target so a leftover is recognisable (temporaryCacheWriter).
-std::string temporaryPrefix(const std::string& target) { return "." + target + ".tmp-"; }
-
-
-// A uniquely named file beside the target, removed on destruction unless it was renamed into place.
-// Created with open(O_EXCL, 0666) rather than mkstemp so the cache gets the usual umask permissions.
-class TempFile {
-public:
-    explicit TempFile(const std::filesystem::path& target) : target_(target) {
-        const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
-        std::random_device rd;
-        for (int attempt = 0; attempt < 100; ++attempt) {
-            const std::string name = temporaryPrefix(target.filename().string()) + std::to_string(::getpid()) + "-" +
-                                     std::to_string(rd());
-            path_ = dir / name;
-            fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-            if (fd_ >= 0) return;
-            if (errno != EEXIST) break;
-        }
-        throw Error(target.string() + ": cannot create a temporary file in " + dir.string() + ": " + systemError());
-    }
-    ~TempFile() {
-        if (fd_ >= 0) ::close(fd_);
-        if (!renamed_) ::unlink(path_.c_str());
-    }
-    TempFile(const TempFile&) = delete;
-    TempFile& operator=(const TempFile&) = delete;
-
-    int fd() const { return fd_; }
-    const std::filesystem::path& path() const { return path_; }
-    [[noreturn]] void fail(const std::string& what) const {
-        throw Error(target_.string() + ": cannot write cache: " + what + " (" + path_.filename().string() +
-                    "): " + systemError());
-    }
-    void syncAndClose() {
-        if (::fsync(fd_) != 0) fail("fsync");
-        const int fd = fd_;
-        fd_ = -1;
-        if (::close(fd) != 0) fail("close");
-    }
-    void renameIntoPlace() {
-        if (::rename(path_.c_str(), target_.c_str()) != 0) fail("rename");
-        renamed_ = true;
-    }
-
-private:
-    std::filesystem::path target_, path_;
-    int fd_ = -1;
-    bool renamed_ = false;
-};
-
 // Buffered writes to the temporary file, hashing every byte for the trailing file checksum.
 class Sink {
 public:
-    explicit Sink(TempFile& file) : file_(file), hash_(newHashState()) { buffer_.reserve(kBufferSize); }
+    explicit Sink(DurableFile& file) : file_(file), hash_(newHashState()) { buffer_.reserve(kBufferSize); }
 
     void write(std::span<const std::uint8_t> bytes) {
         XXH3_64bits_update(hash_.get(), bytes.data(), bytes.size());
@@ -218,30 +167,11 @@ private:
         writeAll(buffer_.data(), buffer_.size());
         buffer_.clear();
     }
-    void writeAll(const std::uint8_t* p, std::size_t n) {
-        while (n > 0) {
-            const ssize_t w = ::write(file_.fd(), p, n);
-            if (w < 0 && errno == EINTR) continue;
-            if (w <= 0) file_.fail("write");
-            p += w;
-            n -= std::size_t(w);
-        }
-    }
-    TempFile& file_;
+    void writeAll(const std::uint8_t* p, std::size_t n) { file_.write(std::as_bytes(std::span(p, n))); }
+    DurableFile& file_;
     HashState hash_;
     std::vector<std::uint8_t> buffer_;
 };
-
-void syncDirectory(const std::filesystem::path& target) {
-    const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
-    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (fd < 0) throw Error(target.string() + ": written, but cannot open its directory to fsync: " + systemError());
-    // Some file systems do not support fsync on a directory (EINVAL): nothing more can be done there.
-    const bool failed = ::fsync(fd) != 0 && errno != EINVAL;
-    const std::string why = failed ? systemError() : "";
-    ::close(fd);
-    if (failed) throw Error(target.string() + ": written, but fsync of its directory failed: " + why);
-}
 
 std::array<std::uint8_t, kHeaderSize> encodeHeader(const CacheParams& p, std::uint32_t probeCount,
                                                    std::uint64_t payloadSize, std::uint64_t tableChecksum) {
@@ -335,15 +265,6 @@ PositionKey positionKey(const glm::vec3& p) {
 }
 
 }  // namespace
-
-long temporaryCacheWriter(const std::string& name, const std::string& target) {
-    const std::string prefix = temporaryPrefix(target);
-    if (name.compare(0, prefix.size(), prefix) != 0) return 0;
-    const std::size_t dash = name.find('-', prefix.size());
-    const std::string pid = name.substr(prefix.size(), dash == std::string::npos ? std::string::npos : dash - prefix.size());
-    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) return 0;
-    return std::stol(pid);
-}
 
 // ---- parameters and sizes -----------------------------------------------------------------------------
 
@@ -461,7 +382,7 @@ void writeCache(const std::filesystem::path& path, const CacheParams& params, st
     }
     const auto header = encodeHeader(params, count, stride * count, XXH3_64bits(table.data(), table.size()));
 
-    TempFile tmp(path);
+    DurableFile tmp(path, "cache");
     {
         Sink sink(tmp);
         sink.write(header);
@@ -476,10 +397,9 @@ void writeCache(const std::filesystem::path& path, const CacheParams& params, st
         sink.finish();
     }
     if (options.releaseSources) options.releaseSources();
-    tmp.syncAndClose();
+    tmp.finish();
     if (options.beforeRename) options.beforeRename();
-    tmp.renameIntoPlace();
-    syncDirectory(path);
+    tmp.commit();
 }
 
 void writeCache(const std::filesystem::path& path, const CacheParams& params, const std::vector<ProbeRecord>& probes,

@@ -115,14 +115,9 @@ struct WriteOptions {
     static constexpr std::uint64_t kReleaseBytes = std::uint64_t(64) << 20;
 };
 
-// The temporary file writeCache writes beside a target named `target` is ".TARGET.tmp-PID-RANDOM": the
-// process id in `name` when it is one of those (a writer killed before its rename leaves it behind),
-// 0 otherwise.
-long temporaryCacheWriter(const std::string& name, const std::string& target);
-
-// Writes `path` atomically: a uniquely named temporary file in the same directory, fsync, rename
-// over `path`, fsync of the directory. On any failure the temporary file is removed, `path` is left
-// as it was, and cubeao::Error names the file and what failed. Probe indices must be distinct.
+// Writes `path` atomically through a DurableFile (core/durable_file.h): temporary file beside it,
+// fsync, rename, directory fsync. On any failure the temporary file is removed, `path` is left as it
+// was, and cubeao::Error names the file and what failed. Probe indices must be distinct.
 void writeCache(const std::filesystem::path& path, const CacheParams& params, std::span<const ProbeView> probes,
                 const WriteOptions& options = {});
 void writeCache(const std::filesystem::path& path, const CacheParams& params, const std::vector<ProbeRecord>& probes,

@@ -2,15 +2,12 @@
 // documented in image_io.h.
 #include "cubeao/metrics/image_io.h"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <string>
-#include <system_error>
 
+#include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
 #include "cubeao/metrics/oiio_module.h"
 
@@ -27,35 +24,14 @@ std::string quoted(const fs::path& p) {
     return s;
 }
 
-// A name in the target's directory (so rename() stays on one filesystem and is atomic) that no
-// other process or thread uses: pid + a process-wide counter. Hidden, so directory listings that
-// look for ao_NNNN.exr never pick it up.
-fs::path temporaryPathFor(const fs::path& target) {
-    static std::atomic<std::uint64_t> counter{0};
-    std::string name(1, '.');
-    name += target.filename().string();
-    name += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
-    return target.parent_path() / name;
-}
-
-// Writes `pixels` (laid out as `spec` says) to a temporary file, then renames it over `path`. The
-// writer is chosen from `path`'s extension, not the temporary name's.
+// Writes `pixels` (laid out as `spec` says) into a DurableFile's temporary file by name, then commits
+// it over `path`. OpenImageIO chooses the format from `path`'s extension, not the temporary name's.
 void writeAtomically(const fs::path& path, const oiio::WriteSpec& spec, const void* pixels) {
     const oiio::Api& io = oiio::api();
-    const fs::path tmp = temporaryPathFor(path);
-    const std::string why = io.write(path.c_str(), tmp.c_str(), spec, pixels);
-    if (!why.empty()) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw Error("cannot write " + quoted(path) + ": " + why);
-    }
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw Error("cannot write " + quoted(path) + ": rename from temporary file failed: " + ec.message());
-    }
+    DurableFile file(path, "image");
+    const std::string why = io.write(path.c_str(), file.temporaryPath().c_str(), spec, pixels);
+    if (!why.empty()) throw Error("cannot write " + quoted(path) + ": " + why);
+    file.commit();
 }
 
 void checkSize(const fs::path& path, int width, int height) {

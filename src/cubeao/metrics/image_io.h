@@ -7,9 +7,8 @@
 //  - PNG previews are *linear*: byte = round(255 * clamp(ao, 0, 1)), no sRGB curve. AO is a
 //    visibility fraction, not a colour, and engines store AO maps linearly too; a linear preview
 //    also lets anyone read the AO value back from a pixel (to 1/255).
-// Writes are atomic-ish: the image goes to a hidden temporary file in the target's directory,
-// which is then renamed over the target, so a reader never sees a half-written file (no fsync:
-// previews and metric images are cheap to regenerate after a power cut). The directory must exist.
+// Writes go through a DurableFile (core/durable_file.h): a reader never sees a half-written image,
+// and a failed write leaves the target as it was. The directory must exist.
 #pragma once
 
 #include <filesystem>

@@ -11,6 +11,7 @@
 #include <glm/trigonometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
 
 namespace cubeao {
@@ -122,9 +123,7 @@ void writeCameraPath(const std::filesystem::path& file, const CameraPath& p) {
     const json j = {{"scene", p.scene},   {"up", {p.up.x, p.up.y, p.up.z}}, {"fov_y_deg", p.fovYDeg},
                     {"width", p.width},   {"height", p.height},          {"near", p.nearPlane},
                     {"far", p.farPlane},  {"frames", frames}};
-    std::ofstream out(file);
-    if (!out) throw Error(file.string() + ": cannot write camera path");
-    out << j.dump(1) << '\n';
+    writeFileDurably(file, j.dump(1) + "\n", "camera path");
 }
 
 FrameRange parseFrameRange(const std::string& text, std::size_t count) {
