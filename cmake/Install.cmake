@@ -46,7 +46,8 @@ install(EXPORT cubeao-offline-targets NAMESPACE cubeao:: DESTINATION ${cubeao_cm
 
 install(DIRECTORY src/cubeao/core src/cubeao/gl src/cubeao/cache src/cubeao/runtime
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/cubeao
-  FILES_MATCHING PATTERN "*.h" PATTERN "window.h" EXCLUDE)
+  FILES_MATCHING PATTERN "*.h" PATTERN "window.h" EXCLUDE
+  PATTERN "cache_codec.h" EXCLUDE)                                   # the cache files' shared layout, private
 install(DIRECTORY src/cubeao/scene src/cubeao/reference src/cubeao/metrics src/cubeao/bake
                   scenes/include/cubeao/scenes placement/include/cubeao/placement
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/cubeao

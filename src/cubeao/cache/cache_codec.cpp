@@ -1,0 +1,162 @@
+// The cache's header codec and probe checksum (cache_codec.h), and the public parameter and size
+// functions of cache_file.h.
+#include <cmath>
+#include <string>
+
+#include "cubeao/cache/cache_codec.h"
+#include "cubeao/core/error.h"
+
+namespace cubeao {
+namespace cache_codec {
+
+// Probe checksum: XXH3-64 of the AO section's bytes followed by the depth section's bytes.
+std::uint64_t hashProbe(std::span<const std::uint8_t> ao, std::span<const std::uint8_t> depth) {
+    HashState s = newHashState();
+    XXH3_64bits_update(s.get(), ao.data(), ao.size());
+    XXH3_64bits_update(s.get(), depth.data(), depth.size());
+    return XXH3_64bits_digest(s.get());
+}
+
+std::array<std::uint8_t, kHeaderSize> encodeHeader(const CacheParams& p, std::uint32_t probeCount,
+                                                   std::uint64_t payloadSize, std::uint64_t tableChecksum) {
+    std::array<std::uint8_t, kHeaderSize> h{};
+    const std::uint64_t payloadOffset = kHeaderSize + kEntrySize * probeCount;
+    std::memcpy(h.data() + hdr::magic, kMagic.data(), kMagic.size());
+    const bool recentred = p.origin != glm::vec3(0.0f);
+    // The oldest format that holds the file (cache_file.h).
+    put32(&h[hdr::version], p.denoise != 0 ? 3u : recentred ? 2u : 1u);
+    put32(&h[hdr::headerSize], kHeaderSize);
+    put64(&h[hdr::sceneHash], p.sceneHash);
+    put32(&h[hdr::res], p.res);
+    put32(&h[hdr::depthRes], p.depthRes);
+    h[hdr::depthFormat] = std::uint8_t(p.depthFormat);
+    h[hdr::estimator] = p.estimator;
+    h[hdr::falloff] = p.falloff;
+    h[hdr::denoise] = p.denoise;  // reserved (0) before format 3
+    put32(&h[hdr::spp], p.spp);
+    putF32(&h[hdr::radius], p.radius);
+    put32(&h[hdr::seed], p.seed);
+    put32(&h[hdr::directions], p.directions);
+    put32(&h[hdr::steps], p.steps);
+    putF32(&h[hdr::hybridThreshold], p.hybridThreshold);
+    put32(&h[hdr::probeCount], probeCount);
+    put64(&h[hdr::tableOffset], kHeaderSize);
+    put64(&h[hdr::payloadOffset], payloadOffset);
+    put64(&h[hdr::payloadSize], payloadSize);
+    put64(&h[hdr::fileSize], payloadOffset + payloadSize + kTrailerSize);
+    put64(&h[hdr::tableChecksum], tableChecksum);
+    if (recentred)
+        for (int k = 0; k < 3; ++k) putF32(&h[hdr::origin + 4 * std::size_t(k)], p.origin[k]);
+    put64(&h[hdr::headerChecksum], XXH3_64bits(h.data(), hdr::headerChecksum));
+    return h;
+}
+
+CacheParams decodeParams(const std::uint8_t* h, std::uint32_t version) {
+    CacheParams p;
+    if (version >= 2)
+        for (int k = 0; k < 3; ++k) p.origin[k] = getF32(h + hdr::origin + 4 * std::size_t(k));
+    p.sceneHash = get64(h + hdr::sceneHash);
+    p.res = get32(h + hdr::res);
+    p.depthRes = get32(h + hdr::depthRes);
+    p.depthFormat = DepthFormat(h[hdr::depthFormat]);
+    p.estimator = h[hdr::estimator];
+    p.falloff = h[hdr::falloff];
+    if (version >= 3) p.denoise = h[hdr::denoise];
+    p.spp = get32(h + hdr::spp);
+    p.radius = getF32(h + hdr::radius);
+    p.seed = get32(h + hdr::seed);
+    p.directions = get32(h + hdr::directions);
+    p.steps = get32(h + hdr::steps);
+    p.hybridThreshold = getF32(h + hdr::hybridThreshold);
+    return p;
+}
+
+}  // namespace cache_codec
+
+using namespace cache_codec;
+
+// ---- parameters and sizes -----------------------------------------------------------------------------
+
+std::uint32_t depthBytesPerTexel(DepthFormat f) {
+    switch (f) {
+        case DepthFormat::R16Unorm: return 2;
+        case DepthFormat::R16Float: return 2;
+        case DepthFormat::R32Float: return 4;
+    }
+    return 0;
+}
+
+const char* depthFormatName(DepthFormat f) {
+    switch (f) {
+        case DepthFormat::R16Unorm: return "r16unorm";
+        case DepthFormat::R16Float: return "r16float";
+        case DepthFormat::R32Float: return "r32float";
+    }
+    return "?";
+}
+
+std::vector<std::string> cacheParamProblems(const CacheParams& p) {
+    std::vector<std::string> problems;
+    if (p.res < 4 || p.res > kMaxRes || p.res % 4 != 0)
+        problems.push_back("res " + std::to_string(p.res) + " is not a multiple of 4 in 4..16384");
+    if (p.depthRes < 1 || p.depthRes > kMaxRes)
+        problems.push_back("depthRes " + std::to_string(p.depthRes) + " is not in 1..16384");
+    if (depthBytesPerTexel(p.depthFormat) == 0)
+        problems.push_back("depth format " + std::to_string(unsigned(p.depthFormat)) +
+                           " is not r16unorm (1), r16float (2) or r32float (3)");
+    if (p.estimator > 3)
+        problems.push_back("estimator " + std::to_string(p.estimator) +
+                           " is not hsplit (0), gtao (1), traced (2) or hybrid (3)");
+    if (p.falloff > 1) problems.push_back("falloff " + std::to_string(p.falloff) + " is not none (0) or smooth (1)");
+    if (p.denoise > kMaxCacheDenoise)
+        problems.push_back("denoise " + std::to_string(p.denoise) + " is not in 0.." + std::to_string(kMaxCacheDenoise));
+    if (!(std::isfinite(p.radius) && p.radius > 0.0f))
+        problems.push_back("radius " + fmtFloat(p.radius) + " is not finite and > 0");
+    if (!std::isfinite(p.hybridThreshold))
+        problems.push_back("hybrid threshold " + fmtFloat(p.hybridThreshold) + " is not finite");
+    if (!std::isfinite(p.origin.x) || !std::isfinite(p.origin.y) || !std::isfinite(p.origin.z))
+        problems.push_back("origin " + fmtVec(p.origin) + " is not finite");
+    return problems;
+}
+
+std::vector<std::string> cacheParamDifferences(const CacheParams& a, const CacheParams& b) {
+    std::vector<std::string> d;
+    auto num = [&d](const char* name, auto x, auto y) {
+        if (x != y) d.push_back(std::string(name) + " " + std::to_string(x) + " vs " + std::to_string(y));
+    };
+    if (a.sceneHash != b.sceneHash) d.push_back("scene hash " + hex64(a.sceneHash) + " vs " + hex64(b.sceneHash));
+    num("res", a.res, b.res);
+    num("depthRes", a.depthRes, b.depthRes);
+    if (a.depthFormat != b.depthFormat)
+        d.push_back(std::string("depth format ") + depthFormatName(a.depthFormat) + " vs " +
+                    depthFormatName(b.depthFormat));
+    num("estimator", unsigned(a.estimator), unsigned(b.estimator));
+    num("falloff", unsigned(a.falloff), unsigned(b.falloff));
+    num("denoise", unsigned(a.denoise), unsigned(b.denoise));
+    num("spp", a.spp, b.spp);
+    if (a.radius != b.radius) d.push_back("radius " + fmtFloat(a.radius) + " vs " + fmtFloat(b.radius));
+    num("seed", a.seed, b.seed);
+    num("directions", a.directions, b.directions);
+    num("steps", a.steps, b.steps);
+    if (a.hybridThreshold != b.hybridThreshold)
+        d.push_back("hybrid threshold " + fmtFloat(a.hybridThreshold) + " vs " + fmtFloat(b.hybridThreshold));
+    if (a.origin != b.origin) d.push_back("origin " + fmtVec(a.origin) + " vs " + fmtVec(b.origin));
+    return d;
+}
+
+std::uint64_t aoSectionSize(const CacheParams& p) {
+    const std::uint64_t blocks = std::uint64_t(p.res / 4) * (p.res / 4);
+    return kFaces * blocks * 16;  // BC5: one 16-byte block per 4×4 texels
+}
+
+std::uint64_t depthSectionSize(const CacheParams& p) {
+    return kFaces * std::uint64_t(p.depthRes) * p.depthRes * depthBytesPerTexel(p.depthFormat);
+}
+
+std::uint64_t cacheFileSize(const CacheParams& p, std::uint64_t probes) {
+    return kHeaderSize + probes * (kEntrySize + alignUp(aoSectionSize(p) + depthSectionSize(p))) + kTrailerSize;
+}
+
+ProbeView viewOf(const ProbeRecord& r) { return {r.index, r.position, r.maxDistance, r.aoConfidence, r.depth}; }
+
+}  // namespace cubeao
