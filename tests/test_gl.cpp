@@ -12,11 +12,13 @@
 
 #include "gl_fixture.h"
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <unistd.h>  // getpid, setenv
@@ -282,22 +284,32 @@ TEST_F(GlTest, HandlesDeleteTheirObjectOnceAfterMoves) {
     EXPECT_FALSE(glIsTexture(secondId));
 }
 
-TEST_F(GlTest, TimerReportsNonNegativeTimes) {
+// Both clocks in milliseconds, and the query inside the wall-clock span around it: known host time
+// (a 30 ms sleep inside the timed work) shows on the wall clock, and a query cannot exceed the
+// host time around it (a unit slip, ns or s for ms, breaks one or the other).
+TEST_F(GlTest, TimerClocksMeasureInMillisecondsInsideTheWallClock) {
     const std::string src = "#version 450 core\nlayout(local_size_x = 8) in;\nvoid main() {}\n";
     const gl::Program program = gl::buildProgram({{GL_COMPUTE_SHADER, src, "empty_test.comp"}});
     const gl::GpuTime t = gl::timeGpu([&] {
         glUseProgram(program.id());
         glDispatchCompute(4, 1, 1);
+        std::this_thread::sleep_for(std::chrono::milliseconds(30));
     });
+    EXPECT_GE(t.wallMs, 30.0);
+    EXPECT_LT(t.wallMs, 5000.0);
     EXPECT_GE(t.queryMs, 0.0);
-    EXPECT_GE(t.wallMs, 0.0);
-    EXPECT_GE(t.ms(), 0.0);
+    EXPECT_LE(t.queryMs, t.wallMs + 1.0);
     EXPECT_EQ(t.trusted, gl::trustedClock(context_->renderer()));
 
     gl::TimerQuery query;
+    const auto start = std::chrono::steady_clock::now();
     query.begin();
+    glDispatchCompute(64, 1, 1);
     query.end();
-    EXPECT_GE(query.elapsedMs(), 0.0);
+    const double elapsed = query.elapsedMs();  // waits for the result
+    const double hostMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_GE(elapsed, 0.0);
+    EXPECT_LE(elapsed, hostMs + 1.0);
     EXPECT_TRUE(query.ready());
 }
 
