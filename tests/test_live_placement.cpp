@@ -123,7 +123,10 @@ TEST_F(GpuBakeStepGl, StepsGiveTheBytesOfBake) {
                 }
             }
             std::string steps;
-            for (double ms : stepMs) steps += " " + std::to_string(ms).substr(0, 6);
+            for (double ms : stepMs) {  // += twice: " " + std::string gives g++ 12 a false -Wstringop-overflow
+                steps += ' ';
+                steps += std::to_string(ms).substr(0, 6);
+            }
             std::printf("stepped bake %s res %d (%s read-back): step wall ms:%s\n", estimatorName(e), s.res,
                         readback == BakeReadback::All ? "full" : "encoded", steps.c_str());
         }
