@@ -9,7 +9,6 @@
 namespace cubeao {
 namespace cache_codec {
 
-// Probe checksum: XXH3-64 of the AO section's bytes followed by the depth section's bytes.
 std::uint64_t hashProbe(std::span<const std::uint8_t> ao, std::span<const std::uint8_t> depth) {
     HashState s = newHashState();
     XXH3_64bits_update(s.get(), ao.data(), ao.size());

@@ -139,5 +139,4 @@ inline PositionKey positionKey(const glm::vec3& p) {
     return {std::bit_cast<std::uint32_t>(p.x), std::bit_cast<std::uint32_t>(p.y), std::bit_cast<std::uint32_t>(p.z)};
 }
 
-
 }  // namespace cubeao::cache_codec

@@ -11,8 +11,6 @@ namespace cubeao {
 
 using namespace cache_codec;
 
-// ---- append and merge ---------------------------------------------------------------------------------
-
 void appendToCache(const std::filesystem::path& path, const CacheParams& params, std::span<const ProbeView> newProbes,
                    const WriteOptions& options) {
     std::error_code ec;
