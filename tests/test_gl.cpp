@@ -5,6 +5,7 @@
 #include "cubeao/gl/context.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/shader.h"
+#include "cubeao/gl/sync.h"
 #include "cubeao/gl/timer.h"
 #include "test_util.h"
 
@@ -282,6 +283,84 @@ TEST_F(GlTest, HandlesDeleteTheirObjectOnceAfterMoves) {
     EXPECT_EQ(first.id(), secondId);
     first.reset();
     EXPECT_FALSE(glIsTexture(secondId));
+}
+
+// A fence passes once the GPU has run what came before it, and is empty (nothing to wait for) after.
+TEST_F(GlTest, FencePassesAfterTheWorkBeforeItAndThenIsEmpty) {
+    gl::Fence none;
+    EXPECT_FALSE(none);
+    EXPECT_TRUE(none.passed());  // nothing to wait for
+
+    gl::Buffer buffer = gl::Buffer::create();
+    glNamedBufferStorage(buffer.id(), 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glClearNamedBufferData(buffer.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    gl::Fence fence = gl::Fence::insert();
+    ASSERT_TRUE(fence);
+    gl::Fence moved = std::move(fence);
+    EXPECT_FALSE(fence);  // NOLINT(bugprone-use-after-move): moved-from fences are empty
+    ASSERT_TRUE(moved);
+    EXPECT_TRUE(moved.wait(std::chrono::seconds(10)));
+    EXPECT_FALSE(moved);  // the sync object is gone once seen to pass
+    EXPECT_TRUE(moved.passed());
+
+    // A poll without any flush of its own still sees the fence pass (the poll flushes).
+    gl::Fence polled = gl::Fence::insert();
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!polled.passed() && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+    EXPECT_FALSE(polled);
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
+// What a compute shader wrote comes back through the ring, oldest first, each slot with its own
+// values and tag; a full ring drops its oldest unread slot instead of waiting.
+TEST_F(GlTest, ReadbackRingReturnsEachPushOldestFirstAndDropsWhenFull) {
+    const std::string src = "#version 450 core\nlayout(local_size_x = 1) in;\n"
+                            "layout(std430, binding = 0) buffer Out { uint words[]; };\nuniform uint base;\n"
+                            "void main() { atomicAdd(words[gl_WorkGroupID.x], base + gl_WorkGroupID.x); }\n";
+    const gl::Program program = gl::buildProgram({{GL_COMPUTE_SHADER, src, "ring_test.comp"}});
+    constexpr std::size_t kWords = 5;
+    gl::Buffer source = gl::Buffer::create();
+    glNamedBufferStorage(source.id(), kWords * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    gl::ReadbackRing<std::uint32_t, int> ring(3, kWords);
+    EXPECT_EQ(ring.slots(), 3u);
+    EXPECT_EQ(ring.count(), kWords);
+    GLint alignment = 4;
+    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &alignment);
+    EXPECT_EQ(ring.bytes() % std::size_t(alignment), 0u);
+    EXPECT_GE(ring.bytes(), 3 * kWords * 4);
+    EXPECT_FALSE(ring.poll());
+    EXPECT_NE(errorMessage([&] { ring.wait(); }).find("nothing is in flight"), std::string::npos);
+
+    const auto run = [&](int tag) {  // words[i] = 100 · tag + i, written by the shader's atomics
+        glClearNamedBufferData(source.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+        glUseProgram(program.id());
+        glUniform1ui(glGetUniformLocation(program.id(), "base"), GLuint(100 * tag));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, source.id());
+        glDispatchCompute(kWords, 1, 1);
+        ring.push(source.id(), tag);
+    };
+    const auto expectSlot = [&](const gl::ReadbackRing<std::uint32_t, int>::Slot& slot, int tag) {
+        EXPECT_EQ(slot.tag, tag);
+        ASSERT_EQ(slot.data.size(), kWords);
+        for (std::size_t i = 0; i < kWords; ++i) EXPECT_EQ(slot.data[i], 100u * unsigned(tag) + i) << "word " << i;
+    };
+    for (int tag = 1; tag <= 4; ++tag) run(tag);  // four into three slots: the first is dropped
+    EXPECT_EQ(ring.dropped(), 1u);
+    EXPECT_EQ(ring.inFlight(), 3u);
+    expectSlot(ring.wait(), 2);
+    for (int tag : {3, 4}) {
+        std::optional<gl::ReadbackRing<std::uint32_t, int>::Slot> slot;
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (!(slot = ring.poll()) && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+        ASSERT_TRUE(slot) << "slot " << tag << " never finished";
+        expectSlot(*slot, tag);
+    }
+    EXPECT_EQ(ring.inFlight(), 0u);
+    EXPECT_FALSE(ring.poll());
+    run(5);  // round the ring again: slot 1 of 3
+    expectSlot(ring.wait(), 5);
+    EXPECT_EQ(ring.dropped(), 1u);
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 
 // Both clocks in milliseconds, and the query inside the wall-clock span around it: known host time

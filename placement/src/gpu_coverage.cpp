@@ -1,10 +1,8 @@
 #include "cubeao/placement/gpu_coverage.h"
 
 #include <algorithm>
-#include <array>
 #include <deque>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -19,6 +17,7 @@
 #include "cubeao/core/error.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/shader.h"
+#include "cubeao/gl/sync.h"
 #include "cubeao/placement/coverage.h"
 #include "cubeao/runtime/camera_gbuffer.h"
 #include "cubeao/runtime/camera_view.h"
@@ -29,50 +28,17 @@ namespace {
 
 constexpr const char* kShader = "placement/coverage_count.comp";
 
-// Location of a uniform the shader must use: a name that drifted from the shader fails loudly.
-GLint uniformLocation(GLuint program, const char* name) {
-    const GLint location = glGetUniformLocation(program, name);
-    if (location < 0) throw Error(std::string(kShader) + ": no active uniform " + name);
-    return location;
-}
-
-struct FenceDeleter {
-    void operator()(GLsync sync) const { glDeleteSync(sync); }
-};
-using Fence = std::unique_ptr<std::remove_pointer_t<GLsync>, FenceDeleter>;
-
 }  // namespace
 
 struct GpuCoverageCount::Impl {
-    // One frame in flight: the counters copied out of the pass, and the fence after the copy.
-    struct Slot {
-        gl::Buffer readBack;
-        Fence fence;
-        std::uint64_t ticket = 0;
-    };
+    using Ring = gl::ReadbackRing<kernel::CoverageCounters>;  // tagged with the ticket
 
     Impl(const Scene& scene, float nearPlane)
         : gbuffer(scene.positions, scene.indices), bvh(buildBvh(scene)), nearPlane(nearPlane) {}
 
-    // Reads a slot whose fence has signaled and frees it.
-    Result take(Slot& slot) {
-        kernel::CoverageCounters c{};
-        glGetNamedBufferSubData(slot.readBack.id(), 0, sizeof c, &c);
-        slot.fence.reset();
-        return {slot.ticket, c.pixels, c.uncovered};
-    }
-
-    // Blocks until the oldest in-flight frame is done and returns its result.
-    Result waitOldest() {
-        Slot& slot = slots[inFlight.front()];
-        for (;;) {
-            // Flush on the first try so the fence reaches the GPU (submit flushes too; this is cheap).
-            const GLenum status = glClientWaitSync(slot.fence.get(), GL_SYNC_FLUSH_COMMANDS_BIT, 1'000'000'000);
-            if (status == GL_ALREADY_SIGNALED || status == GL_CONDITION_SATISFIED) break;
-            if (status == GL_WAIT_FAILED) throw Error("GpuCoverageCount: glClientWaitSync failed");
-        }
-        inFlight.pop_front();
-        return take(slot);
+    static Result result(const Ring::Slot& slot) {
+        const kernel::CoverageCounters& c = slot.data.front();
+        return {slot.tag, c.pixels, c.uncovered};
     }
 
     CameraGBuffer gbuffer;
@@ -81,9 +47,8 @@ struct GpuCoverageCount::Impl {
     gl::Program program;
     gl::Buffer probes, counters;
     std::size_t probeCapacity = 0;  // vec4s the probe buffer holds
-    std::array<Slot, kSlots> slots;
-    std::deque<std::size_t> inFlight;  // slot indices, oldest first
-    std::deque<Result> finished;       // results submit() had to wait for, before any in flight
+    Ring ring;                      // the frames in flight
+    std::deque<Result> finished;  // results submit() had to wait for, before any in flight
     std::uint64_t nextTicket = 0;
 };
 
@@ -93,11 +58,7 @@ GpuCoverageCount::GpuCoverageCount(const Scene& scene, float nearPlane)
     m.program = gl::compileComputeProgram(kShader);
     m.counters = gl::Buffer::create();
     glNamedBufferStorage(m.counters.id(), sizeof(kernel::CoverageCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    for (Impl::Slot& slot : m.slots) {
-        slot.readBack = gl::Buffer::create();
-        // Read on the CPU once its fence has signaled: client storage is the hint for that.
-        glNamedBufferStorage(slot.readBack.id(), sizeof(kernel::CoverageCounters), nullptr, GL_CLIENT_STORAGE_BIT);
-    }
+    m.ring = Impl::Ring(kSlots, 1);
 }
 
 GpuCoverageCount::~GpuCoverageCount() = default;
@@ -105,10 +66,7 @@ GpuCoverageCount::~GpuCoverageCount() = default;
 std::uint64_t GpuCoverageCount::submit(const PinholeCamera& camera, std::span<const glm::vec3> probes,
                                        const CoverageCriterion& criterion, float surfaceEpsilon) {
     Impl& m = *impl_;
-    if (m.inFlight.size() == kSlots) m.finished.push_back(m.waitOldest());  // every slot busy: the documented wait
-    std::size_t free = 0;
-    while (m.slots[free].fence) ++free;
-    Impl::Slot& slot = m.slots[free];
+    if (m.ring.inFlight() == kSlots) m.finished.push_back(Impl::result(m.ring.wait()));  // the documented wait
 
     const CameraView view = CameraView::fromPinhole(camera, m.nearPlane);
     m.gbuffer.render(view);
@@ -131,16 +89,16 @@ std::uint64_t GpuCoverageCount::submit(const PinholeCamera& camera, std::span<co
     const GLuint p = m.program.id();
     const kernel::CoverageParams params = criterion.kernelParams();
     // kernel::CoverageParams member by member (a plain uniform struct has no buffer layout).
-    glProgramUniform1f(p, uniformLocation(p, "params.maxArea"), params.maxArea);
-    glProgramUniform1f(p, uniformLocation(p, "params.maxDistance"), params.maxDistance);
-    glProgramUniform1f(p, uniformLocation(p, "params.minFacing"), params.minFacing);
-    glProgramUniform1i(p, uniformLocation(p, "params.res"), params.res);
-    glProgramUniform1ui(p, uniformLocation(p, "probeCount"), GLuint(probes.size()));
-    glProgramUniform1f(p, uniformLocation(p, "surfaceEpsilon"), surfaceEpsilon);
-    glProgramUniform2i(p, uniformLocation(p, "frameSize"), m.gbuffer.width(), m.gbuffer.height());
-    glProgramUniform1f(p, uniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
+    glProgramUniform1f(p, gl::uniformLocation(p, "params.maxArea"), params.maxArea);
+    glProgramUniform1f(p, gl::uniformLocation(p, "params.maxDistance"), params.maxDistance);
+    glProgramUniform1f(p, gl::uniformLocation(p, "params.minFacing"), params.minFacing);
+    glProgramUniform1i(p, gl::uniformLocation(p, "params.res"), params.res);
+    glProgramUniform1ui(p, gl::uniformLocation(p, "probeCount"), GLuint(probes.size()));
+    glProgramUniform1f(p, gl::uniformLocation(p, "surfaceEpsilon"), surfaceEpsilon);
+    glProgramUniform2i(p, gl::uniformLocation(p, "frameSize"), m.gbuffer.width(), m.gbuffer.height());
+    glProgramUniform1f(p, gl::uniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
     const glm::mat4 worldFromView = view.worldFromView();
-    glProgramUniformMatrix4fv(p, uniformLocation(p, "worldFromView"), 1, GL_FALSE, glm::value_ptr(worldFromView));
+    glProgramUniformMatrix4fv(p, gl::uniformLocation(p, "worldFromView"), 1, GL_FALSE, glm::value_ptr(worldFromView));
 
     glUseProgram(p);
     glBindTextureUnit(kernel::kGBufferDepthUnit, m.gbuffer.depthTexture());
@@ -149,15 +107,10 @@ std::uint64_t GpuCoverageCount::submit(const PinholeCamera& camera, std::span<co
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kCoverageCounterBuffer, m.counters.id());
     m.bvh.bind();
     glDispatchCompute(kernel::pixelGroups(m.gbuffer.width()), kernel::pixelGroups(m.gbuffer.height()), 1);
-    // The shader's atomics must land before the copy reads the counters.
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glCopyNamedBufferSubData(m.counters.id(), slot.readBack.id(), 0, 0, sizeof(kernel::CoverageCounters));
-    slot.fence.reset(glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0));
-    if (!slot.fence) throw Error("GpuCoverageCount: glFenceSync failed");
-    glFlush();  // so the fence reaches the GPU and poll() can see it signal without flushing
-    slot.ticket = m.nextTicket++;
-    m.inFlight.push_back(free);
-    return slot.ticket;
+    const std::uint64_t ticket = m.nextTicket++;
+    m.ring.push(m.counters.id(), ticket);  // (the ring's barrier lets the atomics land before its copy)
+    glFlush();  // the GPU starts on the frame now, not at the first poll
+    return ticket;
 }
 
 std::optional<GpuCoverageCount::Result> GpuCoverageCount::poll() {
@@ -167,13 +120,9 @@ std::optional<GpuCoverageCount::Result> GpuCoverageCount::poll() {
         m.finished.pop_front();
         return r;
     }
-    if (m.inFlight.empty()) return std::nullopt;
-    Impl::Slot& slot = m.slots[m.inFlight.front()];
-    const GLenum status = glClientWaitSync(slot.fence.get(), 0, 0);
-    if (status == GL_WAIT_FAILED) throw Error("GpuCoverageCount: glClientWaitSync failed");
-    if (status != GL_ALREADY_SIGNALED && status != GL_CONDITION_SATISFIED) return std::nullopt;
-    m.inFlight.pop_front();
-    return m.take(slot);
+    const std::optional<Impl::Ring::Slot> slot = m.ring.poll();
+    if (!slot) return std::nullopt;
+    return Impl::result(*slot);
 }
 
 GpuCoverageCount::Result GpuCoverageCount::wait() {
@@ -183,10 +132,14 @@ GpuCoverageCount::Result GpuCoverageCount::wait() {
         m.finished.pop_front();
         return r;
     }
-    if (m.inFlight.empty()) throw Error("GpuCoverageCount::wait: nothing submitted is pending");
-    return m.waitOldest();
+    if (m.ring.inFlight() == 0) throw Error("GpuCoverageCount::wait: nothing submitted is pending");
+    return Impl::result(m.ring.wait());
 }
 
-std::size_t GpuCoverageCount::pending() const { return impl_->finished.size() + impl_->inFlight.size(); }
+std::size_t GpuCoverageCount::pending() const { return impl_->finished.size() + impl_->ring.inFlight(); }
+
+bool GpuCoverageCount::submitWouldWait() {
+    return impl_->ring.inFlight() == kSlots && !impl_->ring.oldestFinished();
+}
 
 }  // namespace cubeao::placement

@@ -80,11 +80,6 @@ struct LivePlacement::Impl {
     std::uint64_t frames = 0;
     bool countDue = false;  // a count is due and waits for a free slot
     std::optional<PinholeCamera> lastCounted;  // the view of the newest count submitted
-    // A fence after each count still in flight, oldest first. CoverageFeedback hands back finished
-    // counts only when it submits the next one, and GpuCoverageCount::submit waits when every slot is
-    // busy: with kSlots counts in flight, this says without waiting whether the oldest is done (GL
-    // signals fences in order), so the next submit cannot wait.
-    std::deque<GLsync> countFences;
     int idleFrames = 0;
     Stats stats;
     double bakeMsTotal = 0.0;
@@ -116,23 +111,10 @@ struct LivePlacement::Impl {
         return errorFeedback ? errorFeedback->probes() : feedback.probes();
     }
 
-    ~Impl() { dropCountFences(0); }
-
-    // Deletes the fences of counts already handed back (the oldest), keeping `keep`.
-    void dropCountFences(std::size_t keep) {
-        for (; countFences.size() > keep; countFences.pop_front()) glDeleteSync(countFences.front());
-    }
-
-    // Whether a count can be submitted now without waiting.
-    bool countSlotFree() {
-        if (!count) return true;  // Error: nothing in flight
-        dropCountFences(count->pending());
-        if (count->pending() < GpuCoverageCount::kSlots) return true;
-        if (countFences.empty()) return false;
-        const GLenum status = glClientWaitSync(countFences.front(), 0, 0);
-        if (status == GL_WAIT_FAILED) throw Error("LivePlacement: glClientWaitSync failed");
-        return status != GL_TIMEOUT_EXPIRED;
-    }
+    // Whether a count can be submitted now without waiting. (CoverageFeedback hands back finished
+    // counts only when it submits the next one, and GpuCoverageCount::submit waits when every slot
+    // is busy with an unfinished frame.)
+    bool countSlotFree() { return !count || !count->submitWouldWait(); }
 
     void submitCount(const PinholeCamera& camera) {
         PinholeCamera counted = camera;  // eye, basis and field of view; the count's resolution
@@ -147,11 +129,7 @@ struct LivePlacement::Impl {
             takeNewProbes();
             return;
         }
-        const std::vector<CoverageFeedback::FrameResult> results = feedback.addFrame(counted, *count);
-        countFences.push_back(glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0));
-        glFlush();  // so that polling the fence with no flush bit can see it signal
-        dropCountFences(count->pending());
-        handled(results);
+        handled(feedback.addFrame(counted, *count));
     }
 
     // New probes of the placing feedback join the queue, with the next indices (and the coverage
@@ -315,7 +293,6 @@ void LivePlacement::frame(const PinholeCamera& camera, bool idle, ProbeProjectio
 void LivePlacement::drain(ProbeProjectionPass& pass) {
     Impl& m = *impl_;
     if (m.count) m.handled(m.feedback.drain(*m.count));
-    m.dropCountFences(0);
     // Bake to the end, waiting for each fence (glFinish) instead of polling it frame after frame.
     while (GpuBaker* baker = m.nextBaker(false)) {
         if (baker->waiting()) glFinish();

@@ -38,6 +38,7 @@
 #include "cubeao/cache/synthetic_probes.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/context.h"
+#include "cubeao/gl/sync.h"
 #include "cubeao/gl/timer.h"
 #include "cubeao/runtime/frame_pipeline.h"
 #include "cubeao/scene/builtin.h"
@@ -144,12 +145,11 @@ Measured measure(const Args& a, const Scene& scene, const CameraPath& path, std:
     // per frame, waited for kFramesInFlight frames later, is that throttle; the wait is outside the
     // issue time measured.
     constexpr std::size_t kFramesInFlight = 2;
-    std::deque<GLsync> inFlight;
+    std::deque<gl::Fence> inFlight;
     for (int k = 0; k < a.warmup + a.frames; ++k) {
         const std::size_t f = frameOf(k);
         if (inFlight.size() >= kFramesInFlight) {
-            glClientWaitSync(inFlight.front(), GL_SYNC_FLUSH_COMMANDS_BIT, GLuint64(10'000'000'000));
-            glDeleteSync(inFlight.front());
+            inFlight.front().wait(std::chrono::seconds(10));
             inFlight.pop_front();
         }
         collect();
@@ -157,9 +157,9 @@ Measured measure(const Args& a, const Scene& scene, const CameraPath& path, std:
         pipeline.render(cli::frameView(path, f, a.width, a.height), std::uint32_t(f));
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         if (k >= a.warmup) m.issueMs.push_back(ms);
-        inFlight.push_back(glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0));
+        inFlight.push_back(gl::Fence::insert());
     }
-    for (GLsync s : inFlight) glDeleteSync(s);
+    inFlight.clear();
     glFinish();
     collect();
     sample(pipeline.method());

@@ -5,6 +5,7 @@
 
 #include "cubeao/core/error.h"
 #include "cubeao/gl/shader.h"
+#include "cubeao/gl/state.h"
 
 namespace cubeao::viewer {
 namespace {
@@ -17,27 +18,6 @@ constexpr std::array<ViewMode, 8> kModes = {ViewMode::Shaded,     ViewMode::Ao, 
 // frame's passes, which bind their own units again each frame.
 constexpr int kShadedUnit = 0, kAoUnit = 1, kDiagnosticsUnit = 2, kBaselineUnit = 3, kReferenceUnit = 4;
 constexpr int kUnavailable = -1;  // MODE_UNAVAILABLE
-
-GLint uniformLocation(GLuint program, const char* name) {
-    const GLint location = glGetUniformLocation(program, name);
-    if (location < 0) throw Error(std::string("viewer/view.frag: no active uniform ") + name);
-    return location;
-}
-
-// Restores a capability on scope exit.
-class Capability {
-public:
-    Capability(GLenum cap, bool on) : cap_(cap), was_(glIsEnabled(cap) == GL_TRUE) {
-        on ? glEnable(cap) : glDisable(cap);
-    }
-    ~Capability() { was_ ? glEnable(cap_) : glDisable(cap_); }
-    Capability(const Capability&) = delete;
-    Capability& operator=(const Capability&) = delete;
-
-private:
-    GLenum cap_;
-    bool was_;
-};
 
 }  // namespace
 
@@ -118,11 +98,11 @@ ViewModes::ViewModes() {
     };
     program_ = gl::compileRenderProgram("viewer/view.vert", "viewer/view.frag", defines);
     const GLuint p = program_.id();
-    modeLocation_ = uniformLocation(p, "mode");
-    viewportLocation_ = uniformLocation(p, "viewportRect");
-    footprintScaleLocation_ = uniformLocation(p, "footprintScale");
-    hasAoLocation_ = uniformLocation(p, "hasAo");
-    encodeLocation_ = uniformLocation(p, "encodeSrgb");
+    modeLocation_ = gl::uniformLocation(p, "mode");
+    viewportLocation_ = gl::uniformLocation(p, "viewportRect");
+    footprintScaleLocation_ = gl::uniformLocation(p, "footprintScale");
+    hasAoLocation_ = gl::uniformLocation(p, "hasAo");
+    encodeLocation_ = gl::uniformLocation(p, "encodeSrgb");
     vertexArray_ = gl::VertexArray::create();
 }
 
@@ -141,17 +121,14 @@ bool ViewModes::draw(ViewMode mode, const ViewInputs& in, int x, int y, int widt
     glBindTextureUnit(kBaselineUnit, in.baselineAo);
     glBindTextureUnit(kReferenceUnit, in.reference);
 
-    GLint viewport[4] = {0, 0, 0, 0};
-    glGetIntegerv(GL_VIEWPORT, viewport);
     {
-        const Capability depth(GL_DEPTH_TEST, false), blend(GL_BLEND, false), cull(GL_CULL_FACE, false);
+        const gl::SavedState saved;  // the panel and the next frame draw on the state they set
+        glDisable(GL_DEPTH_TEST), glDisable(GL_BLEND), glDisable(GL_CULL_FACE);
         glViewport(x, y, width, height);
         glUseProgram(p);
         glBindVertexArray(vertexArray_.id());
         glDrawArrays(GL_TRIANGLES, 0, 3);
-        glBindVertexArray(0);
     }
-    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
     return available;
 }
 

@@ -19,6 +19,8 @@
 #include "cubeao/gl/gpu_mesh.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/shader.h"
+#include "cubeao/gl/state.h"
+#include "cubeao/gl/sync.h"
 #include "cubeao/gl/timer.h"
 #include "cubeao/reference/embree_scene.h"
 
@@ -72,13 +74,10 @@ struct GpuBaker::Impl {
         glm::vec3 probe{0.0f};
         std::uint32_t index = 0;
         Stage stage = Stage::GBuffer;
-        GLsync fence = nullptr;  // after the encoders and the error dispatch
+        gl::Fence fence;  // after the encoders and the error dispatch
         BakedProbe result;
     };
     std::optional<Job> job;
-    ~Impl() {
-        if (job && job->fence) glDeleteSync(job->fence);
-    }
     std::uint64_t fetches() const {
         kernel::FetchCount count{0u, 0u};
         glGetNamedBufferSubData(fetchCount.id(), 0, sizeof count, &count);
@@ -166,20 +165,20 @@ void GpuBaker::Impl::renderGBuffer(const glm::vec3& probe, int res) {
         glm::mat4 clip[cube::kFaces];
         for (int f = 0; f < cube::kFaces; ++f) clip[f] = cube::clipFromWorld(f, probe, zNear);
         glUseProgram(layered.id());
-        glProgramUniformMatrix4fv(layered.id(), glGetUniformLocation(layered.id(), "clipFromWorld"), cube::kFaces,
+        glProgramUniformMatrix4fv(layered.id(), gl::uniformLocation(layered.id(), "clipFromWorld"), cube::kFaces,
                                   GL_FALSE, glm::value_ptr(clip[0]));
-        glProgramUniform3fv(layered.id(), glGetUniformLocation(layered.id(), "probe"), 1, glm::value_ptr(probe));
+        glProgramUniform3fv(layered.id(), gl::uniformLocation(layered.id(), "probe"), 1, glm::value_ptr(probe));
         draw();
     } else {
         glUseProgram(sixPass.id());
-        glProgramUniform3fv(sixPass.id(), glGetUniformLocation(sixPass.id(), "probe"), 1, glm::value_ptr(probe));
+        glProgramUniform3fv(sixPass.id(), gl::uniformLocation(sixPass.id(), "probe"), 1, glm::value_ptr(probe));
         for (int f = 0; f < cube::kFaces; ++f) {
             glNamedFramebufferTextureLayer(framebuffer.id(), GL_COLOR_ATTACHMENT0, gbuffer.id(), 0, f);
             glNamedFramebufferTextureLayer(framebuffer.id(), GL_DEPTH_ATTACHMENT, depth.id(), 0, f);
             glClearNamedFramebufferfv(framebuffer.id(), GL_COLOR, 0, clearNormal);
             glClearNamedFramebufferfv(framebuffer.id(), GL_DEPTH, 0, &clearDepth);
             const glm::mat4 clip = cube::clipFromWorld(f, probe, zNear);
-            glProgramUniformMatrix4fv(sixPass.id(), glGetUniformLocation(sixPass.id(), "clipFromWorld"), 1, GL_FALSE,
+            glProgramUniformMatrix4fv(sixPass.id(), gl::uniformLocation(sixPass.id(), "clipFromWorld"), 1, GL_FALSE,
                                       glm::value_ptr(clip));
             draw();
         }
@@ -192,24 +191,30 @@ void GpuBaker::Impl::renderGBuffer(const glm::vec3& probe, int res) {
 
 namespace {
 
-void setUniform(GLuint program, const char* name, int v) { glProgramUniform1i(program, glGetUniformLocation(program, name), v); }
+void setUniform(GLuint program, const char* name, int v) { glProgramUniform1i(program, gl::uniformLocation(program, name), v); }
 void setUniform(GLuint program, const char* name, std::uint32_t v) {
-    glProgramUniform1ui(program, glGetUniformLocation(program, name), v);
+    glProgramUniform1ui(program, gl::uniformLocation(program, name), v);
 }
-void setUniform(GLuint program, const char* name, float v) { glProgramUniform1f(program, glGetUniformLocation(program, name), v); }
+void setUniform(GLuint program, const char* name, float v) { glProgramUniform1f(program, gl::uniformLocation(program, name), v); }
 void setUniform(GLuint program, const char* name, const glm::vec3& v) {
-    glProgramUniform3fv(program, glGetUniformLocation(program, name), 1, glm::value_ptr(v));
+    glProgramUniform3fv(program, gl::uniformLocation(program, name), 1, glm::value_ptr(v));
 }
 
-// Uniforms every AO pass shares (unused ones are skipped by GL: location −1 is ignored).
+// Uniforms every AO pass has, then the horizon passes' march and the traced passes' rays.
 void setAoUniforms(GLuint program, const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
     setUniform(program, "probe", probe);
     setUniform(program, "res", s.res);
     setUniform(program, "radius", s.ao.radius);
     setUniform(program, "falloff", falloffUniform(s.ao.falloff));
     setUniform(program, "probeKey", probeKey);
+}
+void setHorizonUniforms(GLuint program, const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
+    setAoUniforms(program, probe, probeKey, s);
     setUniform(program, "directions", s.directions);
     setUniform(program, "steps", s.steps);
+}
+void setTracedUniforms(GLuint program, const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
+    setAoUniforms(program, probe, probeKey, s);
     setUniform(program, "spp", s.ao.spp);
 }
 
@@ -219,7 +224,7 @@ void GpuBaker::Impl::horizonPass(const glm::vec3& probe, std::uint32_t probeKey,
     const kernel::FetchCount zero{0u, 0u};
     glNamedBufferSubData(fetchCount.id(), 0, sizeof zero, &zero);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeFetchCountBuffer, fetchCount.id());
-    setAoUniforms(horizon.id(), probe, probeKey, s);
+    setHorizonUniforms(horizon.id(), probe, probeKey, s);
     glUseProgram(horizon.id());
     glBindTextureUnit(kernel::kBakeGBufferUnit, gbuffer.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeAoBuffer, aoBuffer.id());
@@ -229,7 +234,7 @@ void GpuBaker::Impl::horizonPass(const glm::vec3& probe, std::uint32_t probeKey,
 }
 
 void GpuBaker::Impl::tracedPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
-    setAoUniforms(traced.id(), probe, probeKey, s);
+    setTracedUniforms(traced.id(), probe, probeKey, s);
     setUniform(traced.id(), "surfaceEpsilon", surfaceEpsilon);
     glUseProgram(traced.id());
     glBindTextureUnit(kernel::kBakeGBufferUnit, gbuffer.id());
@@ -255,7 +260,7 @@ void GpuBaker::Impl::hybridPass(const glm::vec3& probe, std::uint32_t probeKey, 
                       1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
-    setAoUniforms(tracedList.id(), probe, probeKey, s);
+    setTracedUniforms(tracedList.id(), probe, probeKey, s);
     setUniform(tracedList.id(), "surfaceEpsilon", surfaceEpsilon);
     glUseProgram(tracedList.id());
     bvh->bind();
@@ -368,49 +373,6 @@ void GpuBaker::Impl::readCounters(BakedProbe& out, const BakeSettings& s) const 
     out.rays = out.tracedTexels * std::uint64_t(s.ao.spp);
 }
 
-namespace {
-
-// The GL state a frame relies on and a bake stage changes, saved at construction and put back at
-// destruction (as CameraGBuffer::render does for its own draw).
-class SavedFrameState {
-public:
-    SavedFrameState() {
-        glGetIntegerv(GL_VIEWPORT, viewport_);
-        glGetIntegerv(GL_CURRENT_PROGRAM, &program_);
-        glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawFramebuffer_);
-        glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readFramebuffer_);
-        glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vertexArray_);
-        glGetIntegerv(GL_DEPTH_FUNC, &depthFunc_);
-        glGetIntegerv(GL_CLIP_ORIGIN, &clipOrigin_);
-        glGetIntegerv(GL_CLIP_DEPTH_MODE, &clipDepthMode_);
-        depthTest_ = glIsEnabled(GL_DEPTH_TEST);
-        cull_ = glIsEnabled(GL_CULL_FACE);
-    }
-    ~SavedFrameState() {
-        glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);
-        // A program, framebuffer or vertex array deleted while it was bound lives on only while bound:
-        // unbound by the stage, its name is gone (binding it again is GL_INVALID_VALUE/OPERATION).
-        glUseProgram(glIsProgram(GLuint(program_)) ? GLuint(program_) : 0);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, glIsFramebuffer(GLuint(drawFramebuffer_)) ? GLuint(drawFramebuffer_) : 0);
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, glIsFramebuffer(GLuint(readFramebuffer_)) ? GLuint(readFramebuffer_) : 0);
-        glBindVertexArray(glIsVertexArray(GLuint(vertexArray_)) ? GLuint(vertexArray_) : 0);
-        glDepthFunc(GLenum(depthFunc_));
-        glClipControl(GLenum(clipOrigin_), GLenum(clipDepthMode_));
-        const auto enable = [](GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); };
-        enable(GL_DEPTH_TEST, depthTest_);
-        enable(GL_CULL_FACE, cull_);
-    }
-    SavedFrameState(const SavedFrameState&) = delete;
-    SavedFrameState& operator=(const SavedFrameState&) = delete;
-
-private:
-    GLint viewport_[4] = {0, 0, 0, 0};
-    GLint program_ = 0, drawFramebuffer_ = 0, readFramebuffer_ = 0, vertexArray_ = 0;
-    GLint depthFunc_ = GL_LESS, clipOrigin_ = GL_LOWER_LEFT, clipDepthMode_ = GL_NEGATIVE_ONE_TO_ONE;
-    GLboolean depthTest_ = GL_FALSE, cull_ = GL_FALSE;
-};
-
-}  // namespace
 
 void GpuBaker::begin(const glm::vec3& probe, std::uint32_t probeIndex) {
     if (impl_->job) throw Error("GpuBaker::begin: a stepped bake is still in progress (take() it first)");
@@ -431,34 +393,30 @@ bool GpuBaker::step() {
     using Stage = Impl::Stage;
     switch (job.stage) {
         case Stage::GBuffer: {
-            const SavedFrameState saved;
+            const gl::SavedState saved;  // a stage runs inside the caller's frame
             m.renderGBuffer(job.probe, s.res);
             glFlush();  // start the work now, not at the frame's flush
             job.stage = Stage::Ao;
             return false;
         }
         case Stage::Ao: {
-            const SavedFrameState saved;
+            const gl::SavedState saved;  // a stage runs inside the caller's frame
             m.aoPass(job.probe, job.index ^ s.ao.seed, s);
             glFlush();
             job.stage = Stage::Encode;
             return false;
         }
         case Stage::Encode: {
-            const SavedFrameState saved;
+            const gl::SavedState saved;  // a stage runs inside the caller's frame
             m.encode();
             m.bc5->dispatchAoError(m.aoBuffer.id(), m.gbuffer.id());
-            job.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
-            glFlush();  // the fence must reach the GPU, or polling it with timeout 0 could never see it signal
+            job.fence = gl::Fence::insert();
+            glFlush();  // the GPU starts on the encoders now, not at the next step's poll
             job.stage = Stage::Waiting;
             return false;
         }
         case Stage::Waiting: {
-            const GLenum status = glClientWaitSync(job.fence, 0, 0);
-            if (status == GL_TIMEOUT_EXPIRED) return false;
-            if (status == GL_WAIT_FAILED) throw Error("GpuBaker::step: glClientWaitSync failed");
-            glDeleteSync(job.fence);
-            job.fence = nullptr;
+            if (!job.fence.passed()) return false;
             // Everything issued before the fence is done: none of these reads waits.
             const GpuBc5Encoder::AoError error = m.bc5->readAoError();
             job.result.encoded.aoSquaredError = error.squaredError;

@@ -49,7 +49,7 @@ public:
     // The same bake cut into steps that never wait for the GPU, for a frame loop that interleaves bake
     // work with its frames in one context (the viewer's live placement): begin() starts a job, each
     // step() issues one stage — the G-buffer; the AO pass (hybrid: its three dispatches); the encoders,
-    // the BC5 error dispatch and a fence — and every later step() polls the fence (glClientWaitSync,
+    // the BC5 error dispatch and a fence — and every later step() polls the fence (gl::Fence::passed,
     // timeout 0) and only once it has signalled does the read-backs, which then cannot wait. step()
     // returns true when the result is ready; take() hands it over and ends the job. The result is
     // bit-identical to bake(probe, probeIndex) in the same readback mode (tests/test_live_placement.cpp);

@@ -27,7 +27,7 @@ GpuBc5Encoder::GpuBc5Encoder(int res)
     const GLuint tiles = groups(res / bc::kBlockSize);
     glNamedBufferStorage(partial_.id(), GLsizeiptr(std::size_t(6) * tiles * tiles * sizeof(float) * 2), nullptr, 0);
     for (const GLuint program : {program_.id(), errorProgram_.id()})
-        glProgramUniform1i(program, glGetUniformLocation(program, "res"), res);
+        glProgramUniform1i(program, gl::uniformLocation(program, "res"), res);
 }
 
 void GpuBc5Encoder::encode(GLuint aoConfidenceBuffer) {

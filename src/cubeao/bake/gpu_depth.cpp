@@ -38,11 +38,10 @@ GpuDepthEncoder::GpuDepthEncoder(int res, int depthRes, DepthFormat format)
     glNamedBufferStorage(coarse_.id(), GLsizeiptr(texels * sizeof(float)), nullptr, 0);
     glNamedBufferStorage(maxBits_.id(), sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
     glNamedBufferStorage(packed_.id(), GLsizeiptr(bytes_), nullptr, 0);  // bytes_ is a multiple of 4
-    for (const GLuint program : {downsample_.id(), pack_.id()}) {
-        glProgramUniform1i(program, glGetUniformLocation(program, "res"), res);
-        glProgramUniform1i(program, glGetUniformLocation(program, "depthRes"), depthRes);
-        glProgramUniform1i(program, glGetUniformLocation(program, "format"), int(format));
-    }
+    for (const GLuint program : {downsample_.id(), pack_.id()})
+        glProgramUniform1i(program, gl::uniformLocation(program, "depthRes"), depthRes);
+    glProgramUniform1i(downsample_.id(), gl::uniformLocation(downsample_.id(), "res"), res);      // pass 0 reads the faces
+    glProgramUniform1i(pack_.id(), gl::uniformLocation(pack_.id(), "format"), int(format));  // pass 1 packs them
 }
 
 void GpuDepthEncoder::encode(GLuint gbufferTexture) {

@@ -81,9 +81,9 @@ void Blur::setSettings(const BlurSettings& settings) {
     validateBlurSettings(settings);
     settings_ = settings;
     const GLuint p = program_.id();
-    glProgramUniform1i(p, glGetUniformLocation(p, "radius"), settings.radius);
-    glProgramUniform1f(p, glGetUniformLocation(p, "normalPower"), settings.normalPower);
-    glProgramUniform1f(p, glGetUniformLocation(p, "depthTolerance"), settings.depthTolerance);
+    glProgramUniform1i(p, gl::uniformLocation(p, "radius"), settings.radius);
+    glProgramUniform1f(p, gl::uniformLocation(p, "normalPower"), settings.normalPower);
+    glProgramUniform1f(p, gl::uniformLocation(p, "depthTolerance"), settings.depthTolerance);
 }
 
 void Blur::run(const CameraGBuffer& gbuffer, const CameraView& view, GLuint input, GLuint output) {
@@ -98,13 +98,13 @@ void Blur::run(const CameraGBuffer& gbuffer, const CameraView& view, GLuint inpu
         width_ = w, height_ = h;
     }
     const GLuint p = program_.id();
-    glProgramUniform2i(p, glGetUniformLocation(p, "frameSize"), w, h);
-    glProgramUniform1f(p, glGetUniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
+    glProgramUniform2i(p, gl::uniformLocation(p, "frameSize"), w, h);
+    glProgramUniform1f(p, gl::uniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
     glUseProgram(p);
     glBindTextureUnit(kernel::kGBufferDepthUnit, gbuffer.depthTexture());
     glBindTextureUnit(kernel::kGBufferNormalUnit, gbuffer.normalTexture());
     const GLuint groupsX = kernel::pixelGroups(w), groupsY = kernel::pixelGroups(h);
-    const GLint axisLocation = glGetUniformLocation(p, "axis");
+    const GLint axisLocation = gl::uniformLocation(p, "axis");
     const GLuint passes[2][2] = {{input, intermediate_.id()}, {intermediate_.id(), output}};
     for (int pass = 0; pass < 2; ++pass) {
         glProgramUniform2i(p, axisLocation, pass == 0 ? 1 : 0, pass == 0 ? 0 : 1);

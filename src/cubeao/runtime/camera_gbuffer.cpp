@@ -7,6 +7,7 @@
 #include "common/runtime_layout.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/shader.h"
+#include "cubeao/gl/state.h"
 
 namespace cubeao {
 
@@ -46,38 +47,27 @@ void CameraGBuffer::render(const CameraView& view) {
 
     // UPPER_LEFT: NDC y = +1 lands in texel row 0, so the texture is stored top row first like the
     // images; ZERO_TO_ONE + GL_GREATER: reversed-Z (camera_view.h clipFromView).
-    GLint oldOrigin = 0, oldDepthMode = 0, oldViewport[4];
-    glGetIntegerv(GL_CLIP_ORIGIN, &oldOrigin);
-    glGetIntegerv(GL_CLIP_DEPTH_MODE, &oldDepthMode);
-    glGetIntegerv(GL_VIEWPORT, oldViewport);
-    const GLboolean depthTest = glIsEnabled(GL_DEPTH_TEST), cull = glIsEnabled(GL_CULL_FACE);
-    GLint oldDepthFunc = GL_LESS;
-    glGetIntegerv(GL_DEPTH_FUNC, &oldDepthFunc);
-
-    glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);
-    glDisable(GL_CULL_FACE);  // architecture is open and two-sided
-    glViewport(0, 0, width_, height_);
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
-    glUseProgram(program_.id());
-    const glm::mat3 rotation = view.viewFromWorldRotation();
-    const glm::mat4 clip = view.clipFromView();
-    glProgramUniformMatrix4fv(program_.id(), glGetUniformLocation(program_.id(), "viewFromWorld"), 1, GL_FALSE,
-                              glm::value_ptr(view.viewFromWorld));
-    glProgramUniformMatrix4fv(program_.id(), glGetUniformLocation(program_.id(), "clipFromView"), 1, GL_FALSE,
-                              glm::value_ptr(clip));
-    glProgramUniformMatrix3fv(program_.id(), glGetUniformLocation(program_.id(), "viewFromWorldRotation"), 1,
-                              GL_FALSE, glm::value_ptr(rotation));
-    mesh_.bind(kernel::kTriangleNormalsBuffer);
-    mesh_.draw();
-
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glClipControl(GLenum(oldOrigin), GLenum(oldDepthMode));
-    glDepthFunc(GLenum(oldDepthFunc));
-    if (!depthTest) glDisable(GL_DEPTH_TEST);
-    if (cull) glEnable(GL_CULL_FACE);
-    glViewport(oldViewport[0], oldViewport[1], oldViewport[2], oldViewport[3]);
+    {
+        const gl::SavedState saved;  // the caller's frame sees none of this
+        glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_GREATER);
+        glDisable(GL_CULL_FACE);  // architecture is open and two-sided
+        glDisable(GL_BLEND);
+        glViewport(0, 0, width_, height_);
+        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+        glUseProgram(program_.id());
+        const glm::mat3 rotation = view.viewFromWorldRotation();
+        const glm::mat4 clip = view.clipFromView();
+        glProgramUniformMatrix4fv(program_.id(), gl::uniformLocation(program_.id(), "viewFromWorld"), 1, GL_FALSE,
+                                  glm::value_ptr(view.viewFromWorld));
+        glProgramUniformMatrix4fv(program_.id(), gl::uniformLocation(program_.id(), "clipFromView"), 1, GL_FALSE,
+                                  glm::value_ptr(clip));
+        glProgramUniformMatrix3fv(program_.id(), gl::uniformLocation(program_.id(), "viewFromWorldRotation"), 1,
+                                  GL_FALSE, glm::value_ptr(rotation));
+        mesh_.bind(kernel::kTriangleNormalsBuffer);
+        mesh_.draw();
+    }
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
 

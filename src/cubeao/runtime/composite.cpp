@@ -33,18 +33,18 @@ Composite::Composite(const CompositeSettings& settings) : settings_(settings) {
     settings_.lightDirection = glm::normalize(settings.lightDirection);
     program_ = gl::compileComputeProgram("runtime/composite.comp");
     const GLuint p = program_.id();
-    glProgramUniform1f(p, glGetUniformLocation(p, "alpha"), settings.alpha);
-    glProgramUniform1f(p, glGetUniformLocation(p, "ambient"), settings.ambient);
-    glProgramUniform1f(p, glGetUniformLocation(p, "diffuse"), settings.diffuse);
-    glProgramUniform3fv(p, glGetUniformLocation(p, "albedo"), 1, glm::value_ptr(settings.albedo));
-    glProgramUniform3fv(p, glGetUniformLocation(p, "sky"), 1, glm::value_ptr(settings.sky));
+    glProgramUniform1f(p, gl::uniformLocation(p, "alpha"), settings.alpha);
+    glProgramUniform1f(p, gl::uniformLocation(p, "ambient"), settings.ambient);
+    glProgramUniform1f(p, gl::uniformLocation(p, "diffuse"), settings.diffuse);
+    glProgramUniform3fv(p, gl::uniformLocation(p, "albedo"), 1, glm::value_ptr(settings.albedo));
+    glProgramUniform3fv(p, gl::uniformLocation(p, "sky"), 1, glm::value_ptr(settings.sky));
 }
 
 void Composite::run(const CameraGBuffer& gbuffer, const CameraView& view, GLuint ao, GLuint output) {
     const GLuint p = program_.id();
     const glm::vec3 light = glm::normalize(view.viewFromWorldRotation() * settings_.lightDirection);
-    glProgramUniform2i(p, glGetUniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
-    glProgramUniform3fv(p, glGetUniformLocation(p, "light"), 1, glm::value_ptr(light));
+    glProgramUniform2i(p, gl::uniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
+    glProgramUniform3fv(p, gl::uniformLocation(p, "light"), 1, glm::value_ptr(light));
     glUseProgram(p);
     glBindTextureUnit(kernel::kGBufferDepthUnit, gbuffer.depthTexture());
     glBindTextureUnit(kernel::kGBufferNormalUnit, gbuffer.normalTexture());

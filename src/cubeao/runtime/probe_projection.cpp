@@ -17,13 +17,6 @@
 namespace cubeao {
 namespace {
 
-// Location of a uniform the shader must use: a name that drifted from project.comp fails loudly.
-GLint uniformLocation(GLuint program, const char* name) {
-    const GLint location = glGetUniformLocation(program, name);
-    if (location < 0) throw Error(std::string("runtime/project.comp: no active uniform ") + name);
-    return location;
-}
-
 // Page hints are per probe: the grid reads a probe's distance section alone (one read of its pages,
 // asked for when it first touches the probe), and the probes it has read are released in batches so
 // that building over a cache of any size keeps the RSS bounded.
@@ -128,45 +121,37 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
                          nearest_->table().data(), GL_DYNAMIC_STORAGE_BIT);
     counters_ = gl::Buffer::create();
     glNamedBufferStorage(counters_.id(), kernel::kPassCounterBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    sharesRing_ = gl::Buffer::create();
-    const GLbitfield readFlags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
-    glNamedBufferStorage(sharesRing_.id(), GLsizeiptr(kSharesRing * kernel::kPassCounterBytes), nullptr, readFlags);
-    sharesMapped_ =
-        glMapNamedBufferRange(sharesRing_.id(), 0, GLsizeiptr(kSharesRing * kernel::kPassCounterBytes), readFlags);
-    if (!sharesMapped_) throw Error("probe projection: cannot map the counters' read-back ring");
+    sharesRing_ = gl::ReadbackRing<kernel::PassCounters, double>(kSharesRing, kernel::kCounterStripes);
     // An empty start without a budget: a pool for the probes expected, grown as they come.
     residency_ = std::make_unique<ProbeResidency>(source_, ownGpuBytes(), settings.residency, cache ? 0 : expectedProbes);
 
     program_ = gl::compileComputeProgram("runtime/project.comp");
     configureProgram(program_.id());
     countProgram_ = gl::compileComputeProgram("runtime/cell_residency.comp");
-    glProgramUniform1ui(countProgram_.id(), uniformLocation(countProgram_.id(), "cellCount"),
+    glProgramUniform1ui(countProgram_.id(), gl::uniformLocation(countProgram_.id(), "cellCount"),
                         GLuint(grid_->cellCount()));
-    glProgramUniform1i(countProgram_.id(), uniformLocation(countProgram_.id(), "candidatesPerCell"), candidates_);
+    glProgramUniform1i(countProgram_.id(), gl::uniformLocation(countProgram_.id(), "candidatesPerCell"), candidates_);
 }
 
-ProbeProjectionPass::~ProbeProjectionPass() {
-    for (GLsync& f : sharesFences_)
-        if (f) glDeleteSync(f);
-}
+ProbeProjectionPass::~ProbeProjectionPass() = default;
 
 void ProbeProjectionPass::configureProgram(GLuint p) const {
     const ProjectSettings project = resolveProjectSettings({});
-    glProgramUniform3fv(p, uniformLocation(p, "gridOrigin"), 1, glm::value_ptr(grid_->origin()));
-    glProgramUniform1f(p, uniformLocation(p, "cellSize"), grid_->cellSize());
-    glProgramUniform3iv(p, uniformLocation(p, "gridDims"), 1, glm::value_ptr(grid_->dims()));
-    glProgramUniform1i(p, uniformLocation(p, "candidatesPerCell"), candidates_);
-    glProgramUniform3fv(p, uniformLocation(p, "residentOrigin"), 1, glm::value_ptr(nearest_->origin()));
-    glProgramUniform1f(p, uniformLocation(p, "residentCellSize"), nearest_->cellSize());
-    glProgramUniform3iv(p, uniformLocation(p, "residentDims"), 1, glm::value_ptr(nearest_->dims()));
-    glProgramUniform1i(p, uniformLocation(p, "residentPerCell"), std::max(settings_.residentCandidates, 0));
-    glProgramUniform1f(p, uniformLocation(p, "uncoveredAo"), uncoveredAo_);
+    glProgramUniform3fv(p, gl::uniformLocation(p, "gridOrigin"), 1, glm::value_ptr(grid_->origin()));
+    glProgramUniform1f(p, gl::uniformLocation(p, "cellSize"), grid_->cellSize());
+    glProgramUniform3iv(p, gl::uniformLocation(p, "gridDims"), 1, glm::value_ptr(grid_->dims()));
+    glProgramUniform1i(p, gl::uniformLocation(p, "candidatesPerCell"), candidates_);
+    glProgramUniform3fv(p, gl::uniformLocation(p, "residentOrigin"), 1, glm::value_ptr(nearest_->origin()));
+    glProgramUniform1f(p, gl::uniformLocation(p, "residentCellSize"), nearest_->cellSize());
+    glProgramUniform3iv(p, gl::uniformLocation(p, "residentDims"), 1, glm::value_ptr(nearest_->dims()));
+    glProgramUniform1i(p, gl::uniformLocation(p, "residentPerCell"), std::max(settings_.residentCandidates, 0));
+    glProgramUniform1f(p, gl::uniformLocation(p, "uncoveredAo"), uncoveredAo_);
     // kernel::ProjectionParams, member by member (a plain uniform struct has no buffer layout).
-    glProgramUniform1f(p, uniformLocation(p, "params.depthTolerance"), project.depthTolerance);
-    glProgramUniform1f(p, uniformLocation(p, "params.depthSlope"), project.depthSlope);
-    glProgramUniform1f(p, uniformLocation(p, "params.minFacing"), project.minFacing);
-    glProgramUniform1i(p, uniformLocation(p, "params.res"), res_);
-    glProgramUniform1i(p, uniformLocation(p, "params.depthRes"), depthRes_);
+    glProgramUniform1f(p, gl::uniformLocation(p, "params.depthTolerance"), project.depthTolerance);
+    glProgramUniform1f(p, gl::uniformLocation(p, "params.depthSlope"), project.depthSlope);
+    glProgramUniform1f(p, gl::uniformLocation(p, "params.minFacing"), project.minFacing);
+    glProgramUniform1i(p, gl::uniformLocation(p, "params.res"), res_);
+    glProgramUniform1i(p, gl::uniformLocation(p, "params.depthRes"), depthRes_);
 }
 
 void ProbeProjectionPass::setDiagnostics(bool on) {
@@ -185,7 +170,7 @@ void ProbeProjectionPass::setDiagnostics(bool on) {
 std::size_t ProbeProjectionPass::ownGpuBytes() const {
     // cells_, residentCounts_, nearestCells_, counters_ and the shares' read-back ring
     return (grid_->table().size() + grid_->cellCount() + nearest_->table().size()) * sizeof(std::uint32_t) +
-           (1 + kSharesRing) * kernel::kPassCounterBytes;
+           kernel::kPassCounterBytes + sharesRing_.bytes();
 }
 
 std::size_t ProbeProjectionPass::gpuBytes() const {
@@ -203,7 +188,7 @@ std::size_t ProbeProjectionPass::allocatedGpuBytes() const {
     }
     return residency_->allocatedGpuBytes() + glBufferBytes(cells_.id()) + glBufferBytes(residentCounts_.id()) +
            glBufferBytes(nearestCells_.id()) +
-           glBufferBytes(counters_.id()) + glBufferBytes(sharesRing_.id()) + diagnostics;
+           glBufferBytes(counters_.id()) + glBufferBytes(sharesRing_.buffer()) + diagnostics;
 }
 
 void ProbeProjectionPass::setFallback(std::unique_ptr<AoFallback> fallback) {
@@ -211,7 +196,7 @@ void ProbeProjectionPass::setFallback(std::unique_ptr<AoFallback> fallback) {
     uncoveredAo_ = fallback_ ? kernel::kUncoveredAo : 1.0f;
     for (const gl::Program* program : {&program_, &diagnosticsProgram_})
         if (program->id() != 0)
-            glProgramUniform1f(program->id(), uniformLocation(program->id(), "uncoveredAo"), uncoveredAo_);
+            glProgramUniform1f(program->id(), gl::uniformLocation(program->id(), "uncoveredAo"), uncoveredAo_);
 }
 
 void ProbeProjectionPass::updateResidentLists() {
@@ -346,10 +331,10 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
     countResidentCandidates();
     const GLuint p = diagnostics_ ? diagnosticsProgram_.id() : program_.id();
     glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-    glProgramUniform2i(p, uniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
-    glProgramUniform1f(p, uniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
+    glProgramUniform2i(p, gl::uniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
+    glProgramUniform1f(p, gl::uniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
     const glm::mat4 worldFromView = view.worldFromView();
-    glProgramUniformMatrix4fv(p, uniformLocation(p, "worldFromView"), 1, GL_FALSE, glm::value_ptr(worldFromView));
+    glProgramUniformMatrix4fv(p, gl::uniformLocation(p, "worldFromView"), 1, GL_FALSE, glm::value_ptr(worldFromView));
     glUseProgram(p);
     glBindTextureUnit(kernel::kGBufferDepthUnit, gbuffer.depthTexture());
     glBindTextureUnit(kernel::kGBufferNormalUnit, gbuffer.normalTexture());
@@ -372,36 +357,18 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     residency_->endFrame();
     pixels_ = double(gbuffer.width()) * double(gbuffer.height());
-    // The counters into this run's ring slot (an unread older frame there is dropped: it is only a
-    // figure for a panel), behind a fence.
-    const std::size_t r = std::size_t(runs_ % kSharesRing);
-    if (sharesFences_[r]) {
-        collectShares();
-        if (sharesFences_[r]) glDeleteSync(sharesFences_[r]), sharesFences_[r] = nullptr;
-    }
-    glCopyNamedBufferSubData(counters_.id(), sharesRing_.id(), 0, GLintptr(r * kernel::kPassCounterBytes),
-                             kernel::kPassCounterBytes);
-    glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
-    sharesFences_[r] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
-    sharesSerial_[r] = ++runs_;
-    sharesPixels_[r] = pixels_;
+    // The counters into the read-back ring (when every slot is still unread, the oldest is read now
+    // if it has finished, else dropped: it is only a figure for a panel).
+    if (sharesRing_.inFlight() == sharesRing_.slots()) collectShares();
+    sharesRing_.push(counters_.id(), pixels_);
     if (fallback_) fallback_->fill(gbuffer, view, frame, aoImage);
 }
 
 void ProbeProjectionPass::collectShares() {
-    for (std::size_t r = 0; r < kSharesRing; ++r) {
-        GLsync& fence = sharesFences_[r];
-        if (!fence) continue;
-        const GLenum state = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 0);  // a poll: timeout 0
-        if (state != GL_ALREADY_SIGNALED && state != GL_CONDITION_SATISFIED) continue;
-        glDeleteSync(fence);
-        fence = nullptr;
-        if (sharesSerial_[r] < latestSharesSerial_) continue;
-        const kernel::PassCountTotals c = kernel::sumPassCounters(
-            static_cast<const kernel::PassCounters*>(sharesMapped_) + r * kernel::kCounterStripes);
-        const double n = sharesPixels_[r];
+    while (const auto slot = sharesRing_.poll()) {  // oldest first: the last one read is the newest
+        const kernel::PassCountTotals c = kernel::sumPassCounters(slot->data.data());
+        const double n = slot->tag;
         latestShares_ = PixelShares{double(c.geometry) / n, double(c.uncovered) / n, double(c.fallbackProbe) / n};
-        latestSharesSerial_ = sharesSerial_[r];
     }
 }
 

@@ -19,6 +19,7 @@
 
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/gl/handles.h"
+#include "cubeao/gl/sync.h"
 #include "cubeao/runtime/ao_pass.h"
 #include "cubeao/runtime/nearest_lists.h"
 #include "cubeao/runtime/probe_grid.h"
@@ -94,8 +95,8 @@ public:
         double fallbackProbe = 0.0;  // covered, but a better-ranked candidate was not resident and was passed over
     };
     PixelShares pixelShares() const;
-    // The same for a frame some frames back, without waiting: each run() copies its counters into a ring
-    // of kSharesRing persistently mapped slots with a fence, read once the fence has passed (polled,
+    // The same for a frame some frames back, without waiting: each run() copies its counters into a
+    // read-back ring of kSharesRing slots (gl::ReadbackRing), read once the copy has finished (polled,
     // never waited on). The newest frame read so far; nullopt until one has been. For a frame loop.
     static constexpr std::size_t kSharesRing = 3;
     std::optional<PixelShares> latestPixelShares();
@@ -145,14 +146,8 @@ private:
     gl::Program countProgram_;
     std::uint64_t countedVersion_ = ~std::uint64_t(0);
     bool cellsChanged_ = true;
-    // latestPixelShares' ring: slot r of sharesRing_ holds the counters of run() number sharesSerial_[r].
-    gl::Buffer sharesRing_;
-    const void* sharesMapped_ = nullptr;  // kSharesRing × kCounterStripes kernel::PassCounters, persistently mapped
-    std::array<GLsync, kSharesRing> sharesFences_{};
-    std::array<std::uint64_t, kSharesRing> sharesSerial_{};
-    std::array<double, kSharesRing> sharesPixels_{};
-    std::uint64_t runs_ = 0;
-    std::uint64_t latestSharesSerial_ = 0;
+    // latestPixelShares' ring: each run()'s counters, tagged with its pixel count.
+    gl::ReadbackRing<kernel::PassCounters, double> sharesRing_;
     std::optional<PixelShares> latestShares_;
     void collectShares();
     double pixels_ = 0.0;

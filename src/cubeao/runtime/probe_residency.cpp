@@ -14,6 +14,7 @@
 #include "common/runtime_layout.h"
 #include "cubeao/cache/depth_cube.h"
 #include "cubeao/core/error.h"
+#include "cubeao/gl/sync.h"
 
 namespace cubeao {
 namespace {
@@ -43,12 +44,6 @@ GLint glInteger(GLenum name) {
 }
 std::size_t feedbackWords(std::size_t probes) { return std::max<std::size_t>(1, probes); }  // a count per probe
 std::string mib(std::size_t bytes) { return std::to_string(double(bytes) / double(1 << 20)).substr(0, 6) + " MiB"; }
-
-// Whether a fence has passed, without waiting (timeout 0; the flush makes sure it can pass at all).
-bool signalled(GLsync fence) {
-    const GLenum r = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 0);
-    return r == GL_ALREADY_SIGNALED || r == GL_CONDITION_SATISFIED;
-}
 
 // Texel corner (x, y) and first layer of slot `slot`'s six faces in an atlas of size² tiles: where
 // project.comp's atlasTexel reads them.
@@ -150,32 +145,18 @@ float ProbeSource::distance(std::uint32_t id, std::size_t texel) const {
 std::size_t probeGpuBytes(const CacheParams& p) { return std::size_t(aoSectionSize(p) + depthSectionSize(p)); }
 
 // The staging ring (persistently mapped, written by the host, read by texture uploads) and the
-// feedback ring (written by the projection, read by the host once its fence has passed).
+// feedback ring (written by the projection, read by the host once its copy has finished).
 struct ProbeResidency::Staging {
     gl::Buffer upload;
     std::uint8_t* uploadBytes = nullptr;
-    std::array<GLsync, kStagingRegions> uploadFences{};
+    std::array<gl::Fence, kStagingRegions> uploadFences;
     // The projection's atomics go into `demand`, in GPU memory; endFrame copies it into the mapped
     // ring. Atomics straight into the persistently mapped ring cost 14 ms a 1080p frame at 2,000
     // probes and 130 ms at 20 on an H200 (host memory over PCIe, contended per probe), against
     // 0.2–0.3 ms for the whole pass without them (docs/BENCHMARKS.md, "The first GPU figures").
     gl::Buffer demand;
-    gl::Buffer feedback;
-    const std::uint32_t* feedbackWords = nullptr;
-    std::size_t words = 0, stride = 0;  // words per frame; bytes between frames (binding-offset aligned)
-    std::size_t feedbackBytes = 0;
-    std::array<GLsync, kFeedbackRing> fences{};
-    std::array<std::int64_t, kFeedbackRing> frames{};
-
-    ~Staging() {
-        for (GLsync& f : uploadFences)
-            if (f) glDeleteSync(f);
-        dropFeedback();
-    }
-    void dropFeedback() {
-        for (GLsync& f : fences)
-            if (f) glDeleteSync(f), f = nullptr;
-    }
+    std::size_t words = 0;                               // demand counts per frame
+    gl::ReadbackRing<std::uint32_t, std::int64_t> feedback;  // tagged with the frame
 };
 
 ProbeResidency::ProbeResidency(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings,
@@ -265,18 +246,8 @@ void ProbeResidency::ensureCapacity(std::size_t probes) {
         glCopyNamedBufferSubData(table_.id(), table.id(), 0, 0, GLsizeiptr(old * sizeof(kernel::ProbeEntry)));
     table_ = std::move(table);
     // A new feedback ring: what the old one held for frames in flight is dropped (a hint, not state).
-    staging_->dropFeedback();
-    staging_->feedback = gl::Buffer::create();
     staging_->words = feedbackWords(capacity_);
-    const auto align = std::size_t(std::max(glInteger(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT), 4));
-    staging_->stride = (staging_->words * 4 + align - 1) / align * align;
-    const GLsizeiptr feedbackBytes = GLsizeiptr(kFeedbackRing * staging_->stride);
-    staging_->feedbackBytes = std::size_t(feedbackBytes);
-    const GLbitfield readFlags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
-    glNamedBufferStorage(staging_->feedback.id(), feedbackBytes, nullptr, readFlags | GL_DYNAMIC_STORAGE_BIT);
-    staging_->feedbackWords =
-        static_cast<const std::uint32_t*>(glMapNamedBufferRange(staging_->feedback.id(), 0, feedbackBytes, readFlags));
-    if (!staging_->feedbackWords) throw Error("probe residency: cannot map the feedback buffer");
+    staging_->feedback = gl::ReadbackRing<std::uint32_t, std::int64_t>(kFeedbackRing, staging_->words);
     staging_->demand = gl::Buffer::create();
     glNamedBufferStorage(staging_->demand.id(), GLsizeiptr(staging_->words * 4), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
@@ -300,7 +271,7 @@ void ProbeResidency::syncProbes(const ProbeSource& source) {
     if (unlimited_ && live > slots_ && table_.id() != 0) growAtlas(live, source);
     ensureCapacity(source.size());
     stats_.gpuBytes = atlasBytes_ + kStagingRegions * uploadBound_ + capacity_ * sizeof(kernel::ProbeEntry) +
-                      staging_->feedbackBytes + staging_->words * 4;  // what allocateAtlas and ensureCapacity hold now
+                      staging_->feedback.bytes() + staging_->words * 4;  // what allocateAtlas and ensureCapacity hold now
     slotOf_.resize(source.size(), kNoSlot);
     lastUsed_.resize(source.size(), -1);
     demand_.resize(source.size(), 0u);
@@ -324,13 +295,9 @@ void ProbeResidency::syncProbes(const ProbeSource& source) {
 }
 
 void ProbeResidency::readFeedback() {
-    for (std::size_t r = 0; r < kFeedbackRing; ++r) {
-        GLsync& fence = staging_->fences[r];
-        if (!fence || !signalled(fence)) continue;
-        glDeleteSync(fence);
-        fence = nullptr;
-        const std::uint32_t* counts = staging_->feedbackWords + r * staging_->stride / 4;
-        const std::int64_t frame = staging_->frames[r];
+    while (const auto slot = staging_->feedback.poll()) {  // oldest first
+        const std::span<const std::uint32_t> counts = slot->data;
+        const std::int64_t frame = slot->tag;
         const bool newest = frame > demandFrame_;
         if (newest) std::fill(demand_.begin(), demand_.end(), 0u), demandFrame_ = frame;
         for (std::size_t id = 0; id < std::min(staging_->words, lastUsed_.size()); ++id) {
@@ -370,13 +337,10 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
     stats_.frameUploads = 0, stats_.frameUploadBytes = 0;
     if (wanted.size() > slots_) wanted = wanted.first(slots_);
     const std::size_t region = std::size_t(frame_ % std::int64_t(kStagingRegions));
-    GLsync& regionFence = staging_->uploadFences[region];
-    if (!unbounded) {  // (unbounded uploads go straight from the source's memory)
-        if (regionFence && !signalled(regionFence)) {
-            stats_.frameUploadMs = 0.0;  // the GPU still reads this region: load nothing this frame
-            return;
-        }
-        if (regionFence) glDeleteSync(regionFence), regionFence = nullptr;
+    gl::Fence& regionFence = staging_->uploadFences[region];
+    if (!unbounded && !regionFence.passed()) {  // (unbounded uploads go straight from the source's memory)
+        stats_.frameUploadMs = 0.0;  // the GPU still reads this region: load nothing this frame
+        return;
     }
 
     std::vector<bool> isWanted;  // over ids, only when a slot must be freed
@@ -458,7 +422,7 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
     }
     glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
     if (stats_.frameUploads > 0) source.releaseAll();  // the bytes are staged (or copied by the driver)
-    if (!unbounded && stats_.frameUploads > 0) regionFence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    if (!unbounded && stats_.frameUploads > 0) regionFence = gl::Fence::insert();
     if (frame_ > 0 && !unbounded) stats_.maxFrameUploadBytes = std::max(stats_.maxFrameUploadBytes, stats_.frameUploadBytes);
     stats_.frameUploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -488,17 +452,13 @@ std::size_t glTextureBytes(GLuint texture) {
 
 std::size_t ProbeResidency::allocatedGpuBytes() const {
     return glTextureBytes(ao_.id()) + glTextureBytes(distance_.id()) + glBufferBytes(table_.id()) +
-           glBufferBytes(staging_->upload.id()) + glBufferBytes(staging_->feedback.id()) +
+           glBufferBytes(staging_->upload.id()) + glBufferBytes(staging_->feedback.buffer()) +
            glBufferBytes(staging_->demand.id());
 }
 
 void ProbeResidency::bind() {
-    const std::size_t r = std::size_t(frame_ % std::int64_t(kFeedbackRing));
-    GLsync& fence = staging_->fences[r];
-    if (fence) {  // not read yet: read it now if it passed, else drop it (it is only a hint)
-        readFeedback();
-        if (fence) glDeleteSync(fence), fence = nullptr;
-    }
+    // Every slot unread: read what has passed now; endFrame's push drops the oldest if it has not (a hint).
+    if (staging_->feedback.inFlight() == staging_->feedback.slots()) readFeedback();
     glClearNamedBufferData(staging_->demand.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kProbeFeedbackBuffer, staging_->demand.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kProbeTableBuffer, table_.id());
@@ -507,14 +467,7 @@ void ProbeResidency::bind() {
 }
 
 void ProbeResidency::endFrame() {
-    const std::size_t r = std::size_t(frame_ % std::int64_t(kFeedbackRing));
-    // The pass's atomics into its ring slot, then visible to the mapping once the fence passes.
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glCopyNamedBufferSubData(staging_->demand.id(), staging_->feedback.id(), 0, GLintptr(r * staging_->stride),
-                             GLsizeiptr(staging_->words * 4));
-    glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
-    staging_->fences[r] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
-    staging_->frames[r] = frame_;
+    staging_->feedback.push(staging_->demand.id(), frame_);  // the pass's atomics, read a frame or more later
     ++frame_;
 }
 

@@ -9,10 +9,10 @@
 
 namespace cubeao {
 
-// Sets the uniforms of a screen-space AO program that `settings` fix for its lifetime (GL skips the
-// names a program does not use): SsaoPass's, and the GTAO fallback's (gtao_fallback.h), so a filled
-// pixel is estimated exactly as the gtao pass estimates it.
-void setSsaoUniforms(GLuint program, const SsaoSettings& settings);
+// Sets the uniforms of a screen-space AO program of `method` that `settings` fix for its lifetime:
+// SsaoPass's, and the GTAO fallback's (gtao_fallback.h, method Gtao), so a filled pixel is estimated
+// exactly as the gtao pass estimates it. Alchemy's four constants only exist in its program.
+void setSsaoUniforms(GLuint program, SsaoMethod method, const SsaoSettings& settings);
 
 class SsaoPass final : public AoPass {
 public:

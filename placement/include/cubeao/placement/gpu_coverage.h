@@ -1,8 +1,8 @@
 // The GPU twin of CoverageFeedback::frameCoverage (coverage_feedback.h): per camera frame, the surface
 // pixels no probe covers, by coverage.h's definition (shaders/placement/coverage_count.comp: the shared
 // kernel probeMayCoverPoint, then a BVH occlusion ray from the point to the probe), counted without
-// stalling the caller. submit() queues a frame (camera G-buffer, count, a copy of the two counters
-// into a read-back slot, a fence); poll() hands back finished frames in submission order without
+// stalling the caller. submit() queues a frame (camera G-buffer, count, the two counters into a
+// read-back ring, gl/sync.h); poll() hands back finished frames in submission order without
 // blocking; wait() blocks for the oldest. The CPU count traces primary rays with Embree, this one
 // rasterises them, so the two differ only at silhouettes (tests/test_placement.cpp measures it).
 // Needs a current GL 4.5 context for its whole life (gl/handles.h).
@@ -60,6 +60,8 @@ public:
     Result wait();
     // Frames submitted and not yet returned by poll() or wait().
     std::size_t pending() const;
+    // Whether submit() would wait now: kSlots frames on the GPU and the oldest not finished.
+    bool submitWouldWait();
 
 private:
     struct Impl;
