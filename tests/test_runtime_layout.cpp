@@ -11,9 +11,11 @@
 
 #include "common/bvh.h"
 #include "common/placement_layout.h"
+#include "common/projection.h"
 #include "common/runtime_layout.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/shader.h"
+#include "cubeao/gl/uniform_block.h"
 #include "gl_fixture.h"
 
 namespace {
@@ -76,6 +78,33 @@ void expectPassCounters(GLuint program, const std::string& name) {
     EXPECT_EQ(variableOffset(program, "counters[0].geometry"), GLint(offsetof(k::PassCounters, geometry))) << name;
 }
 
+// project.comp's parameters: the std140 block ProjectUniforms at kProjectBlock holds
+// kernel::ProjectBlock at the C++ offsets, in no more bytes than gl::UniformBlock allocates for it.
+void expectProjectBlock(GLuint program, const std::string& name) {
+    EXPECT_EQ(resourceProperty(program, GL_UNIFORM_BLOCK, "ProjectUniforms", GL_BUFFER_BINDING), k::kProjectBlock) << name;
+    const GLint size = resourceProperty(program, GL_UNIFORM_BLOCK, "ProjectUniforms", GL_BUFFER_DATA_SIZE);
+    EXPECT_GE(size, GLint(sizeof(k::ProjectBlock))) << name;
+    EXPECT_LE(size, GLint(gl::UniformBlock::kBytes<k::ProjectBlock>)) << name;
+    const auto offset = [&](const char* member) {
+        return resourceProperty(program, GL_UNIFORM, (std::string("pass.") + member).c_str(), GL_OFFSET);
+    };
+    EXPECT_EQ(offset("gridOrigin"), GLint(offsetof(k::ProjectBlock, gridOrigin))) << name;
+    EXPECT_EQ(offset("cellSize"), GLint(offsetof(k::ProjectBlock, cellSize))) << name;
+    EXPECT_EQ(offset("gridDims"), GLint(offsetof(k::ProjectBlock, gridDims))) << name;
+    EXPECT_EQ(offset("candidatesPerCell"), GLint(offsetof(k::ProjectBlock, candidatesPerCell))) << name;
+    EXPECT_EQ(offset("residentOrigin"), GLint(offsetof(k::ProjectBlock, residentOrigin))) << name;
+    EXPECT_EQ(offset("residentCellSize"), GLint(offsetof(k::ProjectBlock, residentCellSize))) << name;
+    EXPECT_EQ(offset("residentDims"), GLint(offsetof(k::ProjectBlock, residentDims))) << name;
+    EXPECT_EQ(offset("residentPerCell"), GLint(offsetof(k::ProjectBlock, residentPerCell))) << name;
+    EXPECT_EQ(offset("uncoveredAo"), GLint(offsetof(k::ProjectBlock, uncoveredAo))) << name;
+    const GLint params = GLint(offsetof(k::ProjectBlock, params));
+    EXPECT_EQ(offset("params.depthTolerance"), params + GLint(offsetof(k::ProjectionParams, depthTolerance))) << name;
+    EXPECT_EQ(offset("params.depthSlope"), params + GLint(offsetof(k::ProjectionParams, depthSlope))) << name;
+    EXPECT_EQ(offset("params.minFacing"), params + GLint(offsetof(k::ProjectionParams, minFacing))) << name;
+    EXPECT_EQ(offset("params.res"), params + GLint(offsetof(k::ProjectionParams, res))) << name;
+    EXPECT_EQ(offset("params.depthRes"), params + GLint(offsetof(k::ProjectionParams, depthRes))) << name;
+}
+
 TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
     const gl::Program program = gl::compileComputeProgram("runtime/project.comp");
     const GLuint p = program.id();
@@ -86,6 +115,7 @@ TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
     EXPECT_EQ(unitOf(p, "distanceTex"), k::kProbeDistanceUnit);
     EXPECT_EQ(unitOf(p, "aoOut"), k::kAoImageUnit);
     expectPassCounters(p, "project");
+    expectProjectBlock(p, "project");
 
     EXPECT_EQ(blockBinding(p, "ProbeTable"), k::kProbeTableBuffer);
     EXPECT_EQ(variableOffset(p, "probes[0].position"), GLint(offsetof(k::ProbeEntry, position)));
@@ -113,6 +143,7 @@ TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
     const gl::Program diagnostics = gl::compileComputeProgram("runtime/project.comp", {{"PROJECT_DIAGNOSTICS", "1"}});
     EXPECT_EQ(unitOf(diagnostics.id(), "diagnosticsOut"), k::kDiagnosticsImageUnit);
     EXPECT_EQ(unitOf(diagnostics.id(), "aoOut"), k::kAoImageUnit);
+    expectProjectBlock(diagnostics.id(), "project (diagnostics)");
     EXPECT_EQ(unitOf(p, "diagnosticsOut"), -1) << "the production kernel has no diagnostics";
 }
 
@@ -132,6 +163,21 @@ TEST_F(GlTest, CoverageCountShaderMatchesTheSharedLayout) {
     EXPECT_EQ(variableOffset(p, "counters.uncovered"), GLint(offsetof(k::CoverageCounters, uncovered)));
     EXPECT_EQ(blockBinding(p, "BvhNodes"), k::kBvhNodeBuffer);
     EXPECT_EQ(blockBinding(p, "BvhTriangles"), k::kBvhTriangleBuffer);
+
+    // Its parameters: the std140 block CoverageUniforms holds kernel::CoverageBlock at the C++ offsets.
+    EXPECT_EQ(resourceProperty(p, GL_UNIFORM_BLOCK, "CoverageUniforms", GL_BUFFER_BINDING), k::kCoverageBlock);
+    const GLint size = resourceProperty(p, GL_UNIFORM_BLOCK, "CoverageUniforms", GL_BUFFER_DATA_SIZE);
+    EXPECT_GE(size, GLint(sizeof(k::CoverageBlock)));
+    EXPECT_LE(size, GLint(gl::UniformBlock::kBytes<k::CoverageBlock>));
+    const auto offset = [&](const char* member) {
+        return resourceProperty(p, GL_UNIFORM, (std::string("frame.") + member).c_str(), GL_OFFSET);
+    };
+    EXPECT_EQ(offset("params.maxArea"), GLint(offsetof(k::CoverageParams, maxArea)));
+    EXPECT_EQ(offset("params.maxDistance"), GLint(offsetof(k::CoverageParams, maxDistance)));
+    EXPECT_EQ(offset("params.minFacing"), GLint(offsetof(k::CoverageParams, minFacing)));
+    EXPECT_EQ(offset("params.res"), GLint(offsetof(k::CoverageParams, res)));
+    EXPECT_EQ(offset("probeCount"), GLint(offsetof(k::CoverageBlock, probeCount)));
+    EXPECT_EQ(offset("surfaceEpsilon"), GLint(offsetof(k::CoverageBlock, surfaceEpsilon)));
 }
 
 TEST_F(GlTest, ScreenSpaceShadersMatchTheSharedLayout) {

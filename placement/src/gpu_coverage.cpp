@@ -18,6 +18,7 @@
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/shader.h"
 #include "cubeao/gl/sync.h"
+#include "cubeao/gl/uniform_block.h"
 #include "cubeao/placement/coverage.h"
 #include "cubeao/runtime/camera_gbuffer.h"
 #include "cubeao/runtime/camera_view.h"
@@ -46,6 +47,7 @@ struct GpuCoverageCount::Impl {
     float nearPlane;
     gl::Program program;
     gl::Buffer probes, counters;
+    gl::UniformBlock block;  // kernel::CoverageBlock
     std::size_t probeCapacity = 0;  // vec4s the probe buffer holds
     Ring ring;                      // the frames in flight
     std::deque<Result> finished;  // results submit() had to wait for, before any in flight
@@ -59,6 +61,7 @@ GpuCoverageCount::GpuCoverageCount(const Scene& scene, float nearPlane)
     m.counters = gl::Buffer::create();
     glNamedBufferStorage(m.counters.id(), sizeof(kernel::CoverageCounters), nullptr, GL_DYNAMIC_STORAGE_BIT);
     m.ring = Impl::Ring(kSlots, 1);
+    m.block = gl::UniformBlock::create(kernel::CoverageBlock{});
 }
 
 GpuCoverageCount::~GpuCoverageCount() = default;
@@ -87,20 +90,14 @@ std::uint64_t GpuCoverageCount::submit(const PinholeCamera& camera, std::span<co
     glNamedBufferSubData(m.counters.id(), 0, sizeof zero, &zero);
 
     const GLuint p = m.program.id();
-    const kernel::CoverageParams params = criterion.kernelParams();
-    // kernel::CoverageParams member by member (a plain uniform struct has no buffer layout).
-    glProgramUniform1f(p, gl::uniformLocation(p, "params.maxArea"), params.maxArea);
-    glProgramUniform1f(p, gl::uniformLocation(p, "params.maxDistance"), params.maxDistance);
-    glProgramUniform1f(p, gl::uniformLocation(p, "params.minFacing"), params.minFacing);
-    glProgramUniform1i(p, gl::uniformLocation(p, "params.res"), params.res);
-    glProgramUniform1ui(p, gl::uniformLocation(p, "probeCount"), GLuint(probes.size()));
-    glProgramUniform1f(p, gl::uniformLocation(p, "surfaceEpsilon"), surfaceEpsilon);
+    m.block.set(kernel::CoverageBlock{criterion.kernelParams(), std::uint32_t(probes.size()), surfaceEpsilon});
     glProgramUniform2i(p, gl::uniformLocation(p, "frameSize"), m.gbuffer.width(), m.gbuffer.height());
     glProgramUniform1f(p, gl::uniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
     const glm::mat4 worldFromView = view.worldFromView();
     glProgramUniformMatrix4fv(p, gl::uniformLocation(p, "worldFromView"), 1, GL_FALSE, glm::value_ptr(worldFromView));
 
     glUseProgram(p);
+    m.block.bind(kernel::kCoverageBlock);
     glBindTextureUnit(kernel::kGBufferDepthUnit, m.gbuffer.depthTexture());
     glBindTextureUnit(kernel::kGBufferNormalUnit, m.gbuffer.normalTexture());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kCoverageProbeBuffer, m.probes.id());

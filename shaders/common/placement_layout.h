@@ -5,6 +5,7 @@
 // buffers take bindings no run-time pass uses, so nothing a run-time pass leaves bound is misread.
 #pragma once
 
+#include "coverage.h"
 #include "glsl_cpp.h"
 
 CUBEAO_KERNEL_BEGIN
@@ -12,6 +13,17 @@ CUBEAO_KERNEL_BEGIN
 // Shader storage buffer bindings (runtime_layout.h uses 0 and 4–6, bvh.h 10 and 11).
 CUBEAO_CONST int kCoverageProbeBuffer = 7;    // vec4 per probe: xyz = world position, w unused
 CUBEAO_CONST int kCoverageCounterBuffer = 8;  // CoverageCounters
+
+// Uniform block binding (runtime_layout.h uses 0).
+CUBEAO_CONST int kCoverageBlock = 1;  // CoverageBlock, std140
+
+// Per frame (std140 uniform block, gl::UniformBlock): the criterion, the probes in the probe buffer,
+// and how far the ray to a probe starts off the surface (EmbreeScene::surfaceEpsilon of the CPU count).
+struct CoverageBlock {
+    CoverageParams params;
+    uint probeCount;
+    float surfaceEpsilon;
+};
 
 // Per frame (std430): pixels with geometry, and those of them no probe covers.
 struct CoverageCounters {
@@ -28,5 +40,7 @@ CUBEAO_KERNEL_END
 
 namespace cubeao::kernel {
 static_assert(sizeof(CoverageCounters) == 16 && offsetof(CoverageCounters, uncovered) == 4);
+static_assert(sizeof(CoverageParams) == 16 && offsetof(CoverageBlock, probeCount) == 16 &&
+              offsetof(CoverageBlock, surfaceEpsilon) == 20, "CoverageBlock must keep std140 offsets");
 }  // namespace cubeao::kernel
 #endif

@@ -31,6 +31,11 @@ CUBEAO_CONST int kAoImageUnit = 0;           // R32F AO written by project, ssao
 CUBEAO_CONST int kShadedImageUnit = 1;       // RGBA8 colour written by the composite
 CUBEAO_CONST int kDiagnosticsImageUnit = 2;  // RGBA32F diagnostics of project.comp built with PROJECT_DIAGNOSTICS
 
+// Uniform block bindings (std140 blocks of kernel parameters, filled by gl::UniformBlock from their
+// C++ mirror; offsets static_asserted beside the struct and checked against the driver in
+// tests/test_runtime_layout.cpp).
+CUBEAO_CONST int kProjectBlock = 0;  // project: ProjectBlock (projection.h)
+
 // Shader storage buffer bindings.
 CUBEAO_CONST int kTriangleNormalsBuffer = 0;  // G-buffer: one world-space vec4 normal per triangle (gl/gpu_mesh.h)
 CUBEAO_CONST int kPassCountersBuffer = 4;     // project, ssao/*: PassCounters

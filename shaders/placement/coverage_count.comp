@@ -20,17 +20,15 @@ layout(std430, binding = kCoverageProbeBuffer) restrict readonly buffer Probes {
 layout(std430, binding = kCoverageCounterBuffer) restrict buffer Counters { CoverageCounters counters; };
 
 uniform mat4 worldFromView;
-uniform uint probeCount;
-uniform float surfaceEpsilon;  // EmbreeScene::surfaceEpsilon() of the CPU count
-uniform CoverageParams params;
+layout(std140, binding = kCoverageBlock) uniform CoverageUniforms { CoverageBlock frame; };
 
 shared uint groupPixels, groupUncovered;
 
 bool covered(vec3 x, vec3 n) {
-    vec3 origin = x + n * surfaceEpsilon;
-    for (uint i = 0u; i < probeCount; ++i) {
+    vec3 origin = x + n * frame.surfaceEpsilon;
+    for (uint i = 0u; i < frame.probeCount; ++i) {
         vec3 probe = probes[i].xyz;
-        if (!probeMayCoverPoint(probe, x, n, params)) continue;
+        if (!probeMayCoverPoint(probe, x, n, frame.params)) continue;
         // As probeCovers: a unit direction from the moved origin, the whole way to the probe.
         vec3 toProbe = probe - origin;
         float distance = length(toProbe);

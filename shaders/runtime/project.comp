@@ -51,18 +51,8 @@ layout(std430, binding = kCellResidentCountBuffer) readonly buffer CellResidentC
 layout(std430, binding = kProbeFeedbackBuffer) buffer Feedback { uint demand[]; };
 
 uniform mat4 worldFromView;
-uniform vec3 gridOrigin;
-uniform float cellSize;
-uniform ivec3 gridDims;
-uniform int candidatesPerCell;
-// The second list (src/cubeao/runtime/nearest_lists.h): per coarse cell the resident probes nearest
-// it, residentPerCell of them (0: no second list).
-uniform vec3 residentOrigin;
-uniform float residentCellSize;
-uniform ivec3 residentDims;
-uniform int residentPerCell;
-uniform ProjectionParams params;
-uniform float uncoveredAo;
+// The pass's fixed parameters (projection.h ProjectBlock, filled by probe_projection.cpp).
+layout(std140, binding = kProjectBlock) uniform ProjectUniforms { ProjectBlock pass; };
 
 uint cellBase = 0u;  // first candidate slot of the pixel's cell
 bool secondList = false;  // projectionCandidate reads the second list (from residentBase)
@@ -87,11 +77,11 @@ uint projectionSlot(uint probe) { return probes[probe].tile; }
 vec3 projectionProbePosition(uint probe) { return probes[probe].position; }
 float projectionDistance(uint probe, uint slot, int face, vec2 sc) {
     fetches += 1u;
-    return texelFetch(distanceTex, atlasTexel(slot, face, sc, params.depthRes), 0).r * probes[probe].distanceScale;
+    return texelFetch(distanceTex, atlasTexel(slot, face, sc, pass.params.depthRes), 0).r * probes[probe].distanceScale;
 }
 vec2 projectionAoConfidence(uint slot, int face, vec2 sc) {
     fetches += 1u;
-    return texelFetch(aoTex, atlasTexel(slot, face, sc, params.res), 0).rg;  // r = AO, g = confidence
+    return texelFetch(aoTex, atlasTexel(slot, face, sc, pass.params.res), 0).rg;  // r = AO, g = confidence
 }
 
 #ifdef PROJECT_DIAGNOSTICS
@@ -105,8 +95,8 @@ vec4 probeDiagnostics(ProjectedAo projected, bool fallbackPath, vec3 x, vec3 n) 
     float cosine = -dot(n, d) / distance;
     vec2 sc;
     int face = cubeFaceOf(d, sc);
-    float footprint = sqrt(probeTexelArea(sc, distance, cosine, params.res, params.minFacing));
-    float confidence = texelFetch(aoTex, atlasTexel(slot, face, sc, params.res), 0).g;
+    float footprint = sqrt(probeTexelArea(sc, distance, cosine, pass.params.res, pass.params.minFacing));
+    float confidence = texelFetch(aoTex, atlasTexel(slot, face, sc, pass.params.res), 0).g;
     return vec4(float(probe), footprint, confidence, fallbackPath ? 2.0 : 1.0);
 }
 #endif
@@ -125,22 +115,22 @@ void main() {
             vec3 x = (worldFromView * vec4(viewPosition(px, depth), 1.0)).xyz;
             vec3 n = normalize(mat3(worldFromView) * texelFetch(normalTex, px, 0).xyz);
             fetches += 1u;
-            ivec3 cell = candidateCellOf(x, gridOrigin, cellSize, gridDims);
-            uint cellIndex = uint((cell.z * gridDims.y + cell.y) * gridDims.x + cell.x);
-            cellBase = cellIndex * uint(candidatesPerCell);
+            ivec3 cell = candidateCellOf(x, pass.gridOrigin, pass.cellSize, pass.gridDims);
+            uint cellIndex = uint((cell.z * pass.gridDims.y + cell.y) * pass.gridDims.x + cell.x);
+            cellBase = cellIndex * uint(pass.candidatesPerCell);
             // A cell none of whose candidates is resident (cell_residency.comp): what the loop would
             // find, without reading them one by one: nothing, and its first candidate as the one wanted.
             ProjectedAo projected = residentCount[cellIndex] == 0u
                                         ? ProjectedAo(1.0, 0, candidates[cellBase], kNoProbe, kNoProbe)
-                                        : projectCandidates(candidatesPerCell, x, n, params);
+                                        : projectCandidates(pass.candidatesPerCell, x, n, pass.params);
             bool fallbackPath = projected.missing != kNoProbe;
-            if (projected.used == 0 && residentPerCell > 0) {
+            if (projected.used == 0 && pass.residentPerCell > 0) {
                 // No resident candidate of the cell sees the point: the resident probes nearest it.
-                ivec3 coarse = candidateCellOf(x, residentOrigin, residentCellSize, residentDims);
-                residentBase = uint((coarse.z * residentDims.y + coarse.y) * residentDims.x + coarse.x) *
-                               uint(residentPerCell);
+                ivec3 coarse = candidateCellOf(x, pass.residentOrigin, pass.residentCellSize, pass.residentDims);
+                residentBase = uint((coarse.z * pass.residentDims.y + coarse.y) * pass.residentDims.x + coarse.x) *
+                               uint(pass.residentPerCell);
                 secondList = true;
-                ProjectedAo more = projectCandidates(residentPerCell, x, n, params);
+                ProjectedAo more = projectCandidates(pass.residentPerCell, x, n, pass.params);
                 secondList = false;
                 if (more.used > 0) {
                     more.missing = projected.missing;  // what the pixel wanted is still the cell's candidate
@@ -154,7 +144,7 @@ void main() {
 #endif
             atomicAdd(counters[stripe].geometry, 1u);
             if (projected.used == 0) {
-                ao = uncoveredAo;
+                ao = pass.uncoveredAo;
                 atomicAdd(counters[stripe].uncovered, 1u);
             } else if (fallbackPath) {
                 atomicAdd(counters[stripe].fallbackProbe, 1u);

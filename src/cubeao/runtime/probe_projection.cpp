@@ -126,7 +126,7 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     residency_ = std::make_unique<ProbeResidency>(source_, ownGpuBytes(), settings.residency, cache ? 0 : expectedProbes);
 
     program_ = gl::compileComputeProgram("runtime/project.comp");
-    configureProgram(program_.id());
+    uploadProjectBlock();
     countProgram_ = gl::compileComputeProgram("runtime/cell_residency.comp");
     glProgramUniform1ui(countProgram_.id(), gl::uniformLocation(countProgram_.id(), "cellCount"),
                         GLuint(grid_->cellCount()));
@@ -135,23 +135,23 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
 
 ProbeProjectionPass::~ProbeProjectionPass() = default;
 
-void ProbeProjectionPass::configureProgram(GLuint p) const {
+void ProbeProjectionPass::uploadProjectBlock() {
     const ProjectSettings project = resolveProjectSettings({});
-    glProgramUniform3fv(p, gl::uniformLocation(p, "gridOrigin"), 1, glm::value_ptr(grid_->origin()));
-    glProgramUniform1f(p, gl::uniformLocation(p, "cellSize"), grid_->cellSize());
-    glProgramUniform3iv(p, gl::uniformLocation(p, "gridDims"), 1, glm::value_ptr(grid_->dims()));
-    glProgramUniform1i(p, gl::uniformLocation(p, "candidatesPerCell"), candidates_);
-    glProgramUniform3fv(p, gl::uniformLocation(p, "residentOrigin"), 1, glm::value_ptr(nearest_->origin()));
-    glProgramUniform1f(p, gl::uniformLocation(p, "residentCellSize"), nearest_->cellSize());
-    glProgramUniform3iv(p, gl::uniformLocation(p, "residentDims"), 1, glm::value_ptr(nearest_->dims()));
-    glProgramUniform1i(p, gl::uniformLocation(p, "residentPerCell"), std::max(settings_.residentCandidates, 0));
-    glProgramUniform1f(p, gl::uniformLocation(p, "uncoveredAo"), uncoveredAo_);
-    // kernel::ProjectionParams, member by member (a plain uniform struct has no buffer layout).
-    glProgramUniform1f(p, gl::uniformLocation(p, "params.depthTolerance"), project.depthTolerance);
-    glProgramUniform1f(p, gl::uniformLocation(p, "params.depthSlope"), project.depthSlope);
-    glProgramUniform1f(p, gl::uniformLocation(p, "params.minFacing"), project.minFacing);
-    glProgramUniform1i(p, gl::uniformLocation(p, "params.res"), res_);
-    glProgramUniform1i(p, gl::uniformLocation(p, "params.depthRes"), depthRes_);
+    kernel::ProjectBlock b{};
+    b.gridOrigin = grid_->origin();
+    b.cellSize = grid_->cellSize();
+    b.gridDims = grid_->dims();
+    b.candidatesPerCell = candidates_;
+    b.residentOrigin = nearest_->origin();
+    b.residentCellSize = nearest_->cellSize();
+    b.residentDims = nearest_->dims();
+    b.residentPerCell = std::max(settings_.residentCandidates, 0);
+    b.uncoveredAo = uncoveredAo_;
+    b.params = {project.depthTolerance, project.depthSlope, project.minFacing, res_, depthRes_};
+    if (block_.id() == 0)
+        block_ = gl::UniformBlock::create(b);
+    else
+        block_.set(b);
 }
 
 void ProbeProjectionPass::setDiagnostics(bool on) {
@@ -163,14 +163,13 @@ void ProbeProjectionPass::setDiagnostics(bool on) {
     }
     if (diagnosticsProgram_.id() == 0) {
         diagnosticsProgram_ = gl::compileComputeProgram("runtime/project.comp", {{"PROJECT_DIAGNOSTICS", "1"}});
-        configureProgram(diagnosticsProgram_.id());
     }
 }
 
 std::size_t ProbeProjectionPass::ownGpuBytes() const {
-    // cells_, residentCounts_, nearestCells_, counters_ and the shares' read-back ring
+    // cells_, residentCounts_, nearestCells_, counters_, the shares' read-back ring and the parameters
     return (grid_->table().size() + grid_->cellCount() + nearest_->table().size()) * sizeof(std::uint32_t) +
-           kernel::kPassCounterBytes + sharesRing_.bytes();
+           kernel::kPassCounterBytes + sharesRing_.bytes() + gl::UniformBlock::kBytes<kernel::ProjectBlock>;
 }
 
 std::size_t ProbeProjectionPass::gpuBytes() const {
@@ -188,15 +187,13 @@ std::size_t ProbeProjectionPass::allocatedGpuBytes() const {
     }
     return residency_->allocatedGpuBytes() + glBufferBytes(cells_.id()) + glBufferBytes(residentCounts_.id()) +
            glBufferBytes(nearestCells_.id()) +
-           glBufferBytes(counters_.id()) + glBufferBytes(sharesRing_.buffer()) + diagnostics;
+           glBufferBytes(counters_.id()) + glBufferBytes(sharesRing_.buffer()) + glBufferBytes(block_.id()) + diagnostics;
 }
 
 void ProbeProjectionPass::setFallback(std::unique_ptr<AoFallback> fallback) {
     fallback_ = std::move(fallback);
     uncoveredAo_ = fallback_ ? kernel::kUncoveredAo : 1.0f;
-    for (const gl::Program* program : {&program_, &diagnosticsProgram_})
-        if (program->id() != 0)
-            glProgramUniform1f(program->id(), gl::uniformLocation(program->id(), "uncoveredAo"), uncoveredAo_);
+    uploadProjectBlock();
 }
 
 void ProbeProjectionPass::updateResidentLists() {
@@ -336,6 +333,7 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
     const glm::mat4 worldFromView = view.worldFromView();
     glProgramUniformMatrix4fv(p, gl::uniformLocation(p, "worldFromView"), 1, GL_FALSE, glm::value_ptr(worldFromView));
     glUseProgram(p);
+    block_.bind(kernel::kProjectBlock);
     glBindTextureUnit(kernel::kGBufferDepthUnit, gbuffer.depthTexture());
     glBindTextureUnit(kernel::kGBufferNormalUnit, gbuffer.normalTexture());
     residency_->bind();

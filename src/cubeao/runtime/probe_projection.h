@@ -20,6 +20,7 @@
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/sync.h"
+#include "cubeao/gl/uniform_block.h"
 #include "cubeao/runtime/ao_pass.h"
 #include "cubeao/runtime/nearest_lists.h"
 #include "cubeao/runtime/probe_grid.h"
@@ -123,7 +124,7 @@ private:
     std::size_t ownGpuBytes() const;  // the candidate grid and the counters: what the residency does not hold
     void updateResidentLists();  // the second list over the pool's probes, when the pool changed
     void countResidentCandidates();  // residentCounts_, when the pool or the cells changed
-    void configureProgram(GLuint program) const;  // the uniforms that stay for the pass's life
+    void uploadProjectBlock();  // project.comp's fixed parameters (kernel::ProjectBlock) into block_
 
     ProbeSource source_;
     ProbeProjectionSettings settings_;
@@ -135,6 +136,7 @@ private:
     std::unique_ptr<AoFallback> fallback_;
     gl::Program program_;
     gl::Program diagnosticsProgram_;  // project.comp with PROJECT_DIAGNOSTICS, built on first use
+    gl::UniformBlock block_;          // both programs' parameters
     gl::Texture diagnosticsImage_;
     int diagnosticsWidth_ = 0, diagnosticsHeight_ = 0;
     bool diagnostics_ = false;
