@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/bake_layout.h"
 #include "common/bvh.h"
 #include "common/placement_layout.h"
 #include "common/projection.h"
@@ -266,6 +267,88 @@ TEST_F(GlTest, BlurAndCompositeShadersMatchTheSharedLayout) {
     EXPECT_EQ(unitOf(composite.id(), "shaded"), k::kShadedImageUnit);
 }
 
+// The bake's passes against shaders/common/bake_layout.h as the driver compiled them: work-group
+// sizes, the G-buffer's unit, every storage block's binding and the layouts gpu_bake.cpp reads and
+// writes (FetchCount, TexelListHeader before the texel list, vec2 per texel, uvec4 per BC5 block).
+TEST_F(GlTest, BakeShadersMatchTheSharedLayout) {
+    struct Variant {
+        const char* file;
+        gl::ShaderDefines defines;
+        int groupX, groupY;
+        bool gbuffer, texelList;
+    };
+    const int tile = k::kBakeTileSize, list = k::kBakeListGroupSize;
+    const std::vector<Variant> variants = {
+        {"bake/ao_horizon.comp", {{"ESTIMATOR", "0"}}, tile, tile, true, false},
+        {"bake/ao_horizon.comp", {{"ESTIMATOR", "1"}}, tile, tile, true, false},
+        {"bake/ao_traced.comp", {}, list, 1, true, false},
+        {"bake/ao_traced.comp", {{"TEXEL_LIST", "1"}}, list, 1, true, true},
+        {"bake/ao_denoise.comp", {}, list, 1, true, false},
+        {"bake/ao_denoise.comp", {{"TEXEL_LIST", "1"}}, list, 1, true, true},
+        {"bake/hybrid_select.comp", {}, list, 1, true, true},
+        {"bake/bc5_encode.comp", {}, tile, tile, false, false},
+        {"bake/bc5_error.comp", {}, tile, tile, true, false},
+        {"bake/depth_encode.comp", {{"PASS", "0"}}, tile, tile, true, false},
+        {"bake/depth_encode.comp", {{"PASS", "1"}}, list, 1, false, false},
+    };
+    for (const Variant& v : variants) {
+        std::string name = v.file;
+        for (const auto& [key, value] : v.defines) name += " " + key + "=" + value;
+        const gl::Program program = gl::compileComputeProgram(v.file, v.defines);
+        const GLuint p = program.id();
+        GLint size[3] = {0, 0, 0};
+        glGetProgramiv(p, GL_COMPUTE_WORK_GROUP_SIZE, size);
+        EXPECT_EQ(size[0], v.groupX) << name;
+        EXPECT_EQ(size[1], v.groupY) << name;
+        EXPECT_EQ(size[2], 1) << name;
+        if (v.gbuffer) EXPECT_EQ(unitOf(p, "gbuffer"), k::kBakeGBufferUnit) << name;
+        if (v.texelList) {
+            EXPECT_EQ(blockBinding(p, "TexelList"), k::kBakeTexelListBuffer) << name;
+            EXPECT_EQ(variableOffset(p, "header.groupsX"), GLint(offsetof(k::TexelListHeader, groupsX))) << name;
+            EXPECT_EQ(variableOffset(p, "header.count"), GLint(offsetof(k::TexelListHeader, count))) << name;
+            EXPECT_EQ(variableOffset(p, "texels[0]"), GLint(sizeof(k::TexelListHeader))) << name;  // indirect args first
+        }
+    }
+    const auto program = [](const char* file, gl::ShaderDefines defines = {}) {
+        return gl::compileComputeProgram(file, defines);
+    };
+    const gl::Program horizon = program("bake/ao_horizon.comp", {{"ESTIMATOR", "0"}});
+    EXPECT_EQ(blockBinding(horizon.id(), "AoOut"), k::kBakeAoBuffer);
+    EXPECT_EQ(resourceProperty(horizon.id(), GL_BUFFER_VARIABLE, "aoConfidence[0]", GL_ARRAY_STRIDE), 8);  // vec2
+    EXPECT_EQ(blockBinding(horizon.id(), "FetchCountBuffer"), k::kBakeFetchCountBuffer);
+    EXPECT_EQ(variableOffset(horizon.id(), "counter.fetchesHigh"), GLint(offsetof(k::FetchCount, fetchesHigh)));
+    const gl::Program traced = program("bake/ao_traced.comp");
+    EXPECT_EQ(blockBinding(traced.id(), "AoOut"), k::kBakeAoBuffer);
+    const gl::Program denoise = program("bake/ao_denoise.comp");
+    EXPECT_EQ(blockBinding(denoise.id(), "AoOut"), k::kBakeAoBuffer);
+    EXPECT_EQ(blockBinding(denoise.id(), "AoSource"), k::kBakeAoSourceBuffer);
+    const gl::Program select = program("bake/hybrid_select.comp");
+    EXPECT_EQ(blockBinding(select.id(), "AoIn"), k::kBakeAoBuffer);
+    const gl::Program encode = program("bake/bc5_encode.comp");
+    EXPECT_EQ(blockBinding(encode.id(), "AoIn"), k::kBakeAoBuffer);
+    EXPECT_EQ(blockBinding(encode.id(), "BlocksOut"), k::kBakeBlocksBuffer);
+    EXPECT_EQ(resourceProperty(encode.id(), GL_BUFFER_VARIABLE, "blocks[0]", GL_ARRAY_STRIDE), 16);  // uvec4
+    const gl::Program error = program("bake/bc5_error.comp");
+    EXPECT_EQ(blockBinding(error.id(), "Blocks"), k::kBakeBlocksBuffer);
+    EXPECT_EQ(blockBinding(error.id(), "Partial"), k::kBakeErrorTilesBuffer);
+    EXPECT_EQ(resourceProperty(error.id(), GL_BUFFER_VARIABLE, "partial[0]", GL_ARRAY_STRIDE), 8);  // vec2
+    const gl::Program downsample = program("bake/depth_encode.comp", {{"PASS", "0"}});
+    EXPECT_EQ(blockBinding(downsample.id(), "Coarse"), k::kBakeCoarseBuffer);
+    EXPECT_EQ(blockBinding(downsample.id(), "MaxDistance"), k::kBakeMaxDistanceBuffer);
+    const gl::Program pack = program("bake/depth_encode.comp", {{"PASS", "1"}});
+    EXPECT_EQ(blockBinding(pack.id(), "Coarse"), k::kBakeCoarseBuffer);
+    EXPECT_EQ(blockBinding(pack.id(), "Words"), k::kBakeDepthWordsBuffer);
+
+    // The cube G-buffer, both ways gpu_bake.cpp builds it: the triangle normals at their binding.
+    const gl::Program sixPass = gl::compileRenderProgram("bake/gbuffer.vert", "bake/gbuffer.frag");
+    EXPECT_EQ(blockBinding(sixPass.id(), "TriangleNormals"), k::kBakeTriangleNormalsBuffer);
+    const gl::Program layered = gl::buildProgram({gl::loadShaderStage(GL_VERTEX_SHADER, "bake/gbuffer.vert"),
+                                                  gl::loadShaderStage(GL_GEOMETRY_SHADER, "bake/gbuffer.geom"),
+                                                  gl::loadShaderStage(GL_FRAGMENT_SHADER, "bake/gbuffer.frag")},
+                                                 {{"LAYERED", "1"}});
+    EXPECT_EQ(blockBinding(layered.id(), "TriangleNormals"), k::kBakeTriangleNormalsBuffer);
+}
+
 // Binding numbers are distinct per kind, so one number never means two things across the passes.
 TEST(RuntimeLayout, BindingsAreDistinctPerKind) {
     const std::vector<int> units = {k::kGBufferDepthUnit, k::kGBufferNormalUnit, k::kAoInputUnit, k::kProbeAoUnit,
@@ -282,6 +365,7 @@ TEST(RuntimeLayout, BindingsAreDistinctPerKind) {
     EXPECT_NE(k::kAoImageUnit, k::kShadedImageUnit);
     EXPECT_NE(k::kAoImageUnit, k::kDiagnosticsImageUnit);
     EXPECT_NE(k::kShadedImageUnit, k::kDiagnosticsImageUnit);
+    EXPECT_NE(k::kProjectBlock, k::kCoverageBlock);  // uniform blocks
     EXPECT_EQ(k::pixelGroups(1), 1u);
     EXPECT_EQ(k::pixelGroups(k::kPixelGroupSize), 1u);
     EXPECT_EQ(k::pixelGroups(k::kPixelGroupSize + 1), 2u);
