@@ -2,8 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <functional>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
@@ -22,6 +25,28 @@ using cubeao::test::lastLine;
 using cubeao::test::runCli;
 using cubeao::test::runCommand;
 
+// runCli with the wall time of the command around it.
+std::pair<CliRun, double> timedCli(const std::function<CliRun()>& run) {
+    const auto start = std::chrono::steady_clock::now();
+    CliRun r = run();
+    return {std::move(r), std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()};
+}
+
+// A method's median pass timings, in milliseconds: each positive; `samples` of them fit inside the
+// wall time of the command that measured them (a unit slip, µs or ns reported as ms, breaks that);
+// and a sum is at least its parts (per frame ao + blur ≤ the whole frame, so the medians keep that
+// order: a pass left out of a sum, or a sum taken twice, breaks it).
+void expectPassTimings(const nlohmann::json& t, double samples, double wallMs, const std::string& what) {
+    for (const char* pass : {"gbuffer", "ao", "blur", "composite", "ao_blur", "gpu_total"}) {
+        EXPECT_GT(t[pass].get<double>(), 0.0) << what << " " << pass;
+        EXPECT_LT(t[pass].get<double>() * samples, wallMs) << what << " " << pass << ": " << samples << " frames";
+    }
+    EXPECT_LE(t["ao"].get<double>(), t["ao_blur"].get<double>()) << what;
+    EXPECT_LE(t["blur"].get<double>(), t["ao_blur"].get<double>()) << what;
+    for (const char* pass : {"gbuffer", "composite", "ao_blur"})
+        EXPECT_LE(t[pass].get<double>(), t["gpu_total"].get<double>()) << what << " " << pass;
+}
+
 TEST(BenchRenderCli, UsageErrors) {
     EXPECT_EQ(runCli("bench render --methods probes,ssao").code, 2);
     EXPECT_EQ(runCli("bench render --res 6").code, 2) << "BC5 needs a multiple of 4";
@@ -34,14 +59,15 @@ TEST(BenchRenderCli, UsageErrors) {
 // 400 probes are 2,400 cube faces: more than the 2,048 array layers llvmpipe allows, so the sweep
 // also checks that the projection's atlas (ProbeAtlasLayout) takes caches past that.
 TEST_F(GlTest, BenchRenderTimesEveryMethodAndTheProbeSweep) {
-    const CliRun r = runCli("bench render --scene builtin:box-room --width 64 --height 36 --probes 400,10 --res 8 "
-                            "--frames 1 --json");
+    const auto [r, wallMs] = timedCli([] {
+        return runCli("bench render --scene builtin:box-room --width 64 --height 36 --probes 400,10 --res 8 "
+                      "--frames 1 --json");
+    });
     ASSERT_EQ(r.code, 0) << r.out;
     const nlohmann::json j = lastLine(r.out);
     for (const char* method : {"probes", "gtao", "hbao", "alchemy"}) {
         const nlohmann::json& m = j["methods"][method];
-        for (const char* pass : {"gbuffer", "ao", "blur", "composite", "ao_blur", "gpu_total"})
-            EXPECT_GT(m["timings_ms"][pass].get<double>(), 0.0) << method << " " << pass;
+        expectPassTimings(m["timings_ms"], 3.0, wallMs, method);  // 1 frame × 3 rounds (the default)
         EXPECT_GT(m["fetches_per_pixel"].get<double>(), 0.0) << method;
     }
     ASSERT_EQ(j["sweep"].size(), 2u);
@@ -49,8 +75,9 @@ TEST_F(GlTest, BenchRenderTimesEveryMethodAndTheProbeSweep) {
     EXPECT_EQ(j["sweep"][1]["probes"].get<int>(), 400);
     EXPECT_EQ(j["methods"]["probes"]["probes"].get<int>(), 400) << "\"probes\" is the largest count";
     for (const nlohmann::json& s : j["sweep"]) {
-        EXPECT_GT(s["timings_ms"]["ao_blur"].get<double>(), 0.0);
+        expectPassTimings(s["timings_ms"], 3.0, wallMs, "sweep");
         EXPECT_GT(s["prep_ms"].get<double>(), 0.0);
+        EXPECT_LT(s["prep_ms"].get<double>(), wallMs);
         EXPECT_GT(s["gpu_bytes"].get<double>(), 0.0);
         EXPECT_GT(s["cache_bytes"].get<double>(), 0.0);
         EXPECT_LT(s["uncovered_fraction"].get<double>(), 0.2) << s["probes"] << " probes: the projection reads them all";
@@ -81,7 +108,7 @@ TEST_F(GlTest, BenchRenderSyntheticSweepUnderABudget) {
     const std::string args = "bench render --scene builtin:box-room --width 64 --height 36 --probes 300,10 --res 8 "
                              "--frames 3 --rounds 1 --methods probes --synthetic --gpu-budget-mb 0.72 --upload-mb 0.01 "
                              "--keep-caches " + dir.string() + " --json";
-    const CliRun r = runCli(args);
+    const auto [r, wallMs] = timedCli([&] { return runCli(args); });
     ASSERT_EQ(r.code, 0) << r.out;
     const nlohmann::json j = lastLine(r.out);
     EXPECT_TRUE(j["sweep_caches"]["synthetic"].get<bool>());
@@ -95,7 +122,7 @@ TEST_F(GlTest, BenchRenderSyntheticSweepUnderABudget) {
         EXPECT_GE(res["loads"].get<std::size_t>(), res["resident"].get<std::size_t>()) << n;
         EXPECT_LE(res["max_frame_upload_bytes"].get<std::size_t>(), res["upload_bound_bytes"].get<std::size_t>()) << n;
         EXPECT_LE(s["gpu_bytes"].get<double>(), 0.72 * 1024 * 1024) << n << " probes: within the budget";
-        EXPECT_GT(s["timings_ms"]["ao"].get<double>(), 0.0) << n;
+        expectPassTimings(s["timings_ms"], 3.0, wallMs, std::to_string(n) + " probes");  // 3 frames × 1 round
         EXPECT_NEAR(s["frame_ratio"].get<double>(), s["timings_ms"]["gpu_total"].get<double>() /
                     j["sweep"][0]["timings_ms"]["gpu_total"].get<double>(), 1e-9) << n;
         EXPECT_TRUE(fs::exists(dir / ("synthetic_8_" + std::to_string(n) + ".cubeao"))) << n << ": kept";
@@ -175,7 +202,7 @@ TEST(GpuBenchCli, UsageErrors) {
 
 TEST_F(GlTest, GpuBenchTimesTheProbesAndGtaoThroughEitherClock) {
     const std::string base = "--scene builtin:box-room --res 8 --width 64 --height 36 --warmup 1 --json ";
-    const CliRun wall = runGpuBench(base + "--probes 30 --frames 2");
+    const auto [wall, wallMs] = timedCli([&] { return runGpuBench(base + "--probes 30 --frames 2"); });
     ASSERT_EQ(wall.code, 0) << wall.out;
     const nlohmann::json w = lastLine(wall.out);
     EXPECT_EQ(w["clock"], "wall_clock_glfinish") << "llvmpipe's timer queries do not time the work";
@@ -183,8 +210,7 @@ TEST_F(GlTest, GpuBenchTimesTheProbesAndGtaoThroughEitherClock) {
         const nlohmann::json& m = w["methods"][method];
         EXPECT_EQ(m["timed_frames"].get<int>(), 2) << method;
         EXPECT_EQ(m["counted_frames"].get<int>(), 2) << method;
-        for (const char* pass : {"gbuffer", "ao", "blur", "composite", "ao_blur", "gpu_total"})
-            EXPECT_GT(m["timings_ms"][pass].get<double>(), 0.0) << method << " " << pass;
+        expectPassTimings(m["timings_ms"], 2.0, wallMs, method);
         EXPECT_GT(m["fetches_per_pixel"].get<double>(), 2.0) << method;
     }
     const nlohmann::json& p = w["methods"]["probes"];
@@ -196,7 +222,9 @@ TEST_F(GlTest, GpuBenchTimesTheProbesAndGtaoThroughEitherClock) {
     EXPECT_FALSE(t["applies"].get<bool>()) << "64x36, 30 probes, llvmpipe";
     EXPECT_DOUBLE_EQ(t["value"].get<double>(), p["timings_ms"]["ao_blur"].get<double>());
 
-    const CliRun loop = runGpuBench(base + "--probes 300 --frames 6 --clock pipeline --methods probes --gpu-budget-mb 0.72 --upload-mb 0.01");
+    const auto [loop, loopMs] = timedCli([&] {
+        return runGpuBench(base + "--probes 300 --frames 6 --clock pipeline --methods probes --gpu-budget-mb 0.72 --upload-mb 0.01");
+    });
     ASSERT_EQ(loop.code, 0) << loop.out;
     const nlohmann::json l = lastLine(loop.out);
     EXPECT_EQ(l["clock"], "frame_pipeline_timer_queries");
@@ -206,6 +234,7 @@ TEST_F(GlTest, GpuBenchTimesTheProbesAndGtaoThroughEitherClock) {
     EXPECT_LE(q["timed_frames"].get<int>(), 6);
     EXPECT_EQ(q["counted_frames"].get<int>(), 1) << "the counters are read once, after the loop";
     EXPECT_GT(q["issue_ms"]["max"].get<double>(), 0.0);
+    EXPECT_LT(q["issue_ms"]["max"].get<double>(), loopMs) << "issue times in milliseconds, inside the run";
     EXPECT_GE(q["issue_ms"]["max"].get<double>(), q["issue_ms"]["median"].get<double>());
     EXPECT_LT(q["residency"]["slots"].get<int>(), 300) << "0.72 MiB holds part of the cache";
     EXPECT_LE(q["gpu_bytes"].get<double>(), 0.72 * 1024 * 1024);
