@@ -58,7 +58,7 @@ inline nlohmann::json lastLine(const std::string& out) {
     return nlohmann::json::parse(s.substr(s.rfind('\n') + 1));
 }
 
-// One run of the cubeao binary under injected faults (tests/test_faults.cpp).
+// One run of the cubeao binary under injected faults (tests/cli/test_faults.cpp).
 struct ChildSpec {
     std::vector<std::string> args;                            // after the binary's name, no shell
     std::vector<std::pair<std::string, std::string>> env;     // set in the child only

@@ -13,9 +13,9 @@ packages=(
   libcgal-dev                          # placement: exact inside test, distance to the surface
   libopenimageio-dev openimageio-tools   # OIIO's CMake config insists on its tools being installed
   libcli11-dev nlohmann-json3-dev libxxhash-dev libspdlog-dev libfmt-dev
-  libgtest-dev libsquish-dev                                        # libsquish: BC5 cross-check in tests/test_bc.cpp
+  libgtest-dev libsquish-dev                                        # libsquish: BC5 cross-check in tests/cache/test_bc.cpp
   clang libclang-rt-14-dev                                          # libFuzzer targets (tests/fuzz, tools/fuzz.sh)
-  chromium fonts-liberation                                         # headless check of `cubeao report`'s page (tests/test_report.cpp)
+  chromium fonts-liberation                                         # headless check of `cubeao report`'s page (tests/cli/test_report.cpp)
   slurm-wlm munge                                                   # tools/slurm/, tested on a private localhost cluster (tests/slurm_test.sh)
 )
 

@@ -1,7 +1,7 @@
 #version 450 core
 // BC5 (RGTC2, unsigned) encoder for a probe's (AO, confidence): red = AO, green = confidence, each a
 // BC4 block. The block encoder is bc4EncodeBlock of common/bc4.h (format, algorithm and reasons
-// there), the one the CPU's bc::encodeBc4Block compiles too, hence the same blocks (tests/test_bc.cpp
+// there), the one the CPU's bc::encodeBc4Block compiles too, hence the same blocks (tests/cache/test_bc.cpp
 // checks this bit for bit). One exception: GLSL leaves comparisons with NaN undefined, so a NaN input
 // gives an unspecified level here (C++: 0). This file is only the dispatch framing.
 //

@@ -1,6 +1,6 @@
 // BC4 (RGTC1, unsigned) blocks, written once for the CPU encoder and decoder (src/cubeao/cache/bc4.cpp,
 // public API and the block format in src/cubeao/cache/bc4.h) and the GPU bake's passes
-// (shaders/bake/bc5_encode.comp, shaders/bake/bc5_error.comp); tests/test_bc.cpp checks that both
+// (shaders/bake/bc5_encode.comp, shaders/bake/bc5_error.comp); tests/cache/test_bc.cpp checks that both
 // compilations give the same blocks, bit for bit.
 //
 // Levels (EXT_texture_compression_rgtc = OpenGL 4.5 core, appendix C.1): with R0 = red_0/255,
@@ -27,7 +27,7 @@
 //  3. steepest descent over the 8 neighbours (lo ± 1, hi ± 1), at most kBc4DescentSteps moves.
 // The mode with the smaller error wins (the 8-level mode on a tie); an exact fit stops early.
 // Without the starts of step 1, a ramp of 4 evenly spaced values ends in a local minimum some
-// 20 dB worse. On the test images (tests/test_bc.cpp) the result is within ~0.4 dB of an
+// 20 dB worse. On the test images (tests/cache/test_bc.cpp) the result is within ~0.4 dB of an
 // exhaustive search over all 65536 endpoint pairs on random 4×4 noise, and 10-20 dB better than
 // libsquish's range fit on smooth ramps. Step 3 costs ~25% of the time and gives up to 5 dB on
 // smooth data.

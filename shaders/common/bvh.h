@@ -1,6 +1,6 @@
 // Ray queries against the scene's BVH for the traced AO estimator, written once for the GPU bake
 // (shaders/bake/ao_traced.comp, through bvh.glsl, which declares the storage buffers) and the C++
-// traversal (src/cubeao/bake/bvh.h, which documents the layout and the build). tests/test_bvh.cpp
+// traversal (src/cubeao/bake/bvh.h, which documents the layout and the build). tests/bake/test_bvh.cpp
 // checks the two compilations ray by ray, and the C++ one against Embree.
 //
 // Node and triangle reads go through bvhNode(b, i) and bvhTriangle(b, i): in C++ `b` holds the

@@ -1,7 +1,7 @@
 // A probe's distance cube (DESIGN.md §4 "Storage"; docs/FORMAT.md "Distance cube"), written once for
 // the CPU (src/cubeao/cache/depth_cube.cpp: depth::downsample with Filter::Min, depth::floatToHalf,
 // depth::encodeTexel; the measurements behind the choices are in depth_cube.h) and the GPU bake's
-// shaders/bake/depth_encode.comp, which give the same bytes (tests/test_depth_cube.cpp; r16unorm
+// shaders/bake/depth_encode.comp, which give the same bytes (tests/cache/test_depth_cube.cpp; r16unorm
 // within one code: GLSL's division is not correctly rounded everywhere).
 //
 // The fine distances: depthFineDistance(p, texel) returns the distance of fine texel (i, j, face),

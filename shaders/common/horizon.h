@@ -1,6 +1,6 @@
 // Horizon estimators on a probe's cube G-buffer, per texel (DESIGN.md §4 "Bake"), written once for
 // the GPU pass (shaders/bake/ao_horizon.comp) and the CPU bake (src/cubeao/bake/horizon.h, which
-// documents the estimators; tests/test_bake_gl.cpp runs both compilations on the same G-buffer).
+// documents the estimators; tests/bake/test_bake_gl.cpp runs both compilations on the same G-buffer).
 //
 // The G-buffer lookup: horizonFetch(hp, texel) returns (normal, distance) of texel (i, j, face),
 // distance 0 = empty. In GLSL the including shader defines `vec4 horizonFetch(ivec3 texel)` (reading

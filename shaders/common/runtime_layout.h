@@ -33,7 +33,7 @@ CUBEAO_CONST int kDiagnosticsImageUnit = 2;  // RGBA32F diagnostics of project.c
 
 // Uniform block bindings (std140 blocks of kernel parameters, filled by gl::UniformBlock from their
 // C++ mirror; offsets static_asserted beside the struct and checked against the driver in
-// tests/test_runtime_layout.cpp).
+// tests/runtime/test_runtime_layout.cpp).
 CUBEAO_CONST int kProjectBlock = 0;  // project: ProjectBlock (projection.h)
 
 // Shader storage buffer bindings.

@@ -2,7 +2,7 @@
 // screen-space baselines alike. Plain arithmetic on 32-bit integers and floats, so the GPU and the
 // CPU trace the same rays: one fixed 2-D Hammersley set per sample count, shifted per pixel or texel
 // by an integer hash (Cranley–Patterson rotation), mapped to a cosine-weighted hemisphere around the
-// normal. tests/test_sampling_gl.cpp runs this header on the GPU against its C++ compilation.
+// normal. tests/core/test_sampling_gl.cpp runs this header on the GPU against its C++ compilation.
 #pragma once
 
 #include "constants.h"

@@ -522,7 +522,7 @@ svg.chart .grid{stroke:#e6e8ec}svg.chart .axis{stroke:#667}
 nav a{margin-right:14px}
 )CSS";
 
-// Marks the page for headless checks (tests/test_report.cpp): body data-images-ok="loaded/total" once
+// Marks the page for headless checks (tests/cli/test_report.cpp): body data-images-ok="loaded/total" once
 // loaded, data-errors for any script error.
 const char* kScript = R"JS(
 window.addEventListener('error', function (e) {

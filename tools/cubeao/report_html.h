@@ -1,5 +1,5 @@
 // Pieces of `cubeao report`'s self-contained HTML page that have known answers, kept apart from the
-// command so tests/test_report.cpp can check them: base64 for data: URIs, HTML escaping, the fixed
+// command so tests/cli/test_report.cpp can check them: base64 for data: URIs, HTML escaping, the fixed
 // colour scales (error heat map, probe gain), a linear axis scale with round ticks, and the inline
 // SVG line chart built on them. Header-only: the CLI and the test suite each compile it.
 #pragma once

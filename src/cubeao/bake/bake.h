@@ -72,7 +72,7 @@ BakedProbe bakeProbeCpu(const EmbreeScene& scene, const glm::vec3& probe, std::u
 // What the cache stores of a probe, on the CPU: bc::encodeBc5Cube of (ao, confidence), the distance
 // cube of g at settings.depthRes / depthFormat (depth::downsample with depth::kFilter, encode), and
 // the AO error of the BC5 blocks over g's surface texels. The GPU bake produces the same BC5 bytes
-// and distance texels within one r16unorm code (tests/test_bake_cache.cpp).
+// and distance texels within one r16unorm code (tests/bake/test_bake_cache.cpp).
 EncodedProbe encodeProbeCpu(const CubeGBuffer& g, const std::vector<float>& ao, const std::vector<float>& confidence,
                             const BakeSettings& settings);
 

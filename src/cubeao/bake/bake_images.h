@@ -27,7 +27,7 @@
 // this cell order no other orientation keeps the shared edges continuous. In the middle row world-up
 // is at the top and the row runs continuously around the vertical axis; +Y's
 // bottom edge meets +Z's top edge and −Y's top edge meets +Z's bottom edge, so the cross folds into a
-// cube whose shared edges match (tests/test_bake_cpu.cpp checks continuity across every cell border).
+// cube whose shared edges match (tests/bake/test_bake_cpu.cpp checks continuity across every cell border).
 // In cube.h terms each face shows texel (i, j) at cell pixel (i, j): texel row 0 at the cell's top.
 #pragma once
 

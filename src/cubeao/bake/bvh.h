@@ -3,7 +3,7 @@
 // shared kernel shaders/common/bvh.h (compiled as GLSL by shaders/bake/ao_traced.comp through
 // shaders/common/bvh.glsl); the layout is flat and std430-shaped so the arrays upload as they are
 // (gpu_bvh.h). bvhIntersect/bvhOccluded below run the same kernel on the CPU, so the GPU's answers
-// can be checked ray by ray here and the traversal against Embree (tests/test_bvh.cpp).
+// can be checked ray by ray here and the traversal against Embree (tests/bake/test_bvh.cpp).
 #pragma once
 
 #include <cstddef>

@@ -1,7 +1,7 @@
 // The GPU bake path (DESIGN.md §4 "Bake"): the scene rasterised into a cube G-buffer (a 6-layer
 // RGBA32F array texture: normal facing the probe, distance), then one compute pass per estimator
 // writing (ao, confidence) per texel, then the encoders (gpu_bc5.h, gpu_depth.h) that make what the
-// cache stores, so only compressed bytes need to come back to the CPU. Twin: the CPU path in bake.h; tests/test_bake_gl.cpp checks
+// cache stores, so only compressed bytes need to come back to the CPU. Twin: the CPU path in bake.h; tests/bake/test_bake_gl.cpp checks
 // that the two agree.
 //
 // A GpuBaker needs a current GL 4.5 context for its whole life (it owns GL objects).
@@ -52,7 +52,7 @@ public:
     // the BC5 error dispatch and a fence — and every later step() polls the fence (gl::Fence::passed,
     // timeout 0) and only once it has signalled does the read-backs, which then cannot wait. step()
     // returns true when the result is ready; take() hands it over and ends the job. The result is
-    // bit-identical to bake(probe, probeIndex) in the same readback mode (tests/test_live_placement.cpp);
+    // bit-identical to bake(probe, probeIndex) in the same readback mode (tests/placement/test_live_placement.cpp);
     // its per-stage timings stay 0 (timing a stage means waiting for it). One job at a time: begin()
     // throws cubeao::Error while one is in progress, take() unless one is ready. A step restores the GL
     // state a frame relies on (viewport, program, framebuffers, VAO, depth test and function, face

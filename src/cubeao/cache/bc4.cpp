@@ -1,6 +1,6 @@
 // BC4 reference encoder and decoder (format in bc4.h). The block encoder, the levels and the code
 // layout are common/bc4.h's (shaders/common/bc4.h, which explains the algorithm), the code that
-// shaders/bake/bc5_encode.comp and bc5_error.comp compile too; tests/test_bc.cpp checks that CPU and
+// shaders/bake/bc5_encode.comp and bc5_error.comp compile too; tests/cache/test_bc.cpp checks that CPU and
 // GPU produce identical blocks. Here only the framing: 64-bit blocks, the cube layout, and the
 // decoder's loop, which has no GPU twin (a GPU samples BC5 textures in its texture unit).
 #include "cubeao/cache/bc4.h"

@@ -2,7 +2,7 @@
 // depthRes and quantised to a DepthFormat (docs/FORMAT.md "Distance cube"), and the run-time depth
 // test that reads it ("is this surface point visible from the probe?"). CPU reference here; the GPU
 // bake's twin is shaders/bake/depth_encode.comp (driver: src/cubeao/bake/gpu_depth.h), which
-// produces the same bytes (tests/test_depth_cube.cpp, tests/test_bake_cache.cpp): both compile the
+// produces the same bytes (tests/cache/test_depth_cube.cpp, tests/bake/test_bake_cache.cpp): both compile the
 // Min filter, floatToHalf and encodeTexel of shaders/common/depth_encode.h.
 //
 // Choice of depthRes, format and filter, measured with `cubeao bench depth` (res 512 bakes, 8 probes

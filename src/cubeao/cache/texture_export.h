@@ -9,7 +9,7 @@
 // it is the same byte). Our caches store face f in exactly the bytes glCompressedTexSubImage takes
 // for that face (cache/bc4.h "Cube layout", common/cube.h), faces +X −X +Y −Y +Z −Z, which is also
 // the face order of DDS and KTX2. So the cache's blocks are the file's payload as they are
-// (tests/test_export.cpp samples the exported files with D3D's face table to check it).
+// (tests/cli/test_export.cpp samples the exported files with D3D's face table to check it).
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,6 @@
 // Cube-map conventions in C++: the shared kernel (shaders/common/cube.h: face order, texel ↔
 // direction, GL 4.5 §8.13.1 table 8.19) in the cube:: names the C++ code uses, plus what only the CPU
-// needs: texel indices, solid angles and the projection that rasterises a face. tests/test_bake_gl.cpp
+// needs: texel indices, solid angles and the projection that rasterises a face. tests/bake/test_bake_gl.cpp
 // runs the same kernel on the GPU against this compilation of it.
 //
 // Face f, texel (i, j) of a res × res face covers s ∈ [i, i+1)/res, t ∈ [j, j+1)/res; its centre

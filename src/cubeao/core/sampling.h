@@ -1,7 +1,7 @@
 // Sample directions for AO rays in C++: the shared kernel (shaders/common/sampling.h) in the
 // sampling:: names the reference, the CPU bake and the tests use. One fixed Hammersley set per sample
 // count, rotated per pixel or texel by an integer hash, mapped to a cosine-weighted hemisphere, so
-// the GPU bake and the Embree twin trace the same rays (tests/test_sampling_gl.cpp).
+// the GPU bake and the Embree twin trace the same rays (tests/core/test_sampling_gl.cpp).
 #pragma once
 
 #include <cstdint>

@@ -1,7 +1,7 @@
 // A std140 uniform block's buffer, filled from its C++ mirror: the way kernel parameters reach a
 // shader. The mirror is a struct of shaders/common read by the GLSL block and the C++ side alike,
 // with static_asserts on its offsets beside it and a driver check of the same offsets
-// (tests/test_runtime_layout.cpp), so a member that drifts fails at build or test time instead of
+// (tests/runtime/test_runtime_layout.cpp), so a member that drifts fails at build or test time instead of
 // setting the wrong uniform; no name is looked up.
 #pragma once
 

@@ -14,7 +14,7 @@
 // there. These times mean something on a real GPU only: timesAreExecution() says which.
 // The measuring wrapper FrameRenderer (renderer.h) times the same stage calls with gl::timeGpu (wall
 // clock around glFinish on llvmpipe) and reads the frame back: the renderer of `cubeao render` and
-// the benchmarks, not a frame loop. tests/test_frame_pipeline.cpp checks the no-wait promise through
+// the benchmarks, not a frame loop. tests/runtime/test_frame_pipeline.cpp checks the no-wait promise through
 // a GL wrapper that counts every waiting or reading GL call.
 #pragma once
 

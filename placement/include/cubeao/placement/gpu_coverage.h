@@ -4,7 +4,7 @@
 // stalling the caller. submit() queues a frame (camera G-buffer, count, the two counters into a
 // read-back ring, gl/sync.h); poll() hands back finished frames in submission order without
 // blocking; wait() blocks for the oldest. The CPU count traces primary rays with Embree, this one
-// rasterises them, so the two differ only at silhouettes (tests/test_placement.cpp measures it).
+// rasterises them, so the two differ only at silhouettes (tests/placement/test_placement.cpp measures it).
 // Needs a current GL 4.5 context for its whole life (gl/handles.h).
 #pragma once
 
