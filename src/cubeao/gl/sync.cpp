@@ -18,7 +18,8 @@ bool Fence::passed() { return wait(std::chrono::nanoseconds(0)); }
 
 bool Fence::wait(std::chrono::nanoseconds timeout) {
     if (!sync_) return true;
-    const GLenum state = glClientWaitSync(sync_, GL_SYNC_FLUSH_COMMANDS_BIT, GLuint64(std::max<std::int64_t>(timeout.count(), 0)));
+    const auto ns = GLuint64(std::max<std::int64_t>(timeout.count(), 0));
+    const GLenum state = glClientWaitSync(sync_, GL_SYNC_FLUSH_COMMANDS_BIT, ns);
     if (state == GL_WAIT_FAILED) throw Error("glClientWaitSync failed (GL error " + std::to_string(glGetError()) + ")");
     if (state != GL_ALREADY_SIGNALED && state != GL_CONDITION_SATISFIED) return false;  // GL_TIMEOUT_EXPIRED
     reset();
