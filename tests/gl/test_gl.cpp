@@ -13,11 +13,13 @@
 
 #include "gl_fixture.h"
 
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -360,6 +362,33 @@ TEST_F(GlTest, ReadbackRingReturnsEachPushOldestFirstAndDropsWhenFull) {
     run(5);  // round the ring again: slot 1 of 3
     expectSlot(ring.wait(), 5);
     EXPECT_EQ(ring.dropped(), 1u);
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
+// Bytes written into an upload region reach the GPU from the offset write() returns; a region is
+// writable again once the fence after its readers has passed; writing past a region's end throws.
+TEST_F(GlTest, UploadRingRegionsReachTheGpuAndWaitForTheirReaders) {
+    gl::UploadRing ring(2, 16);
+    EXPECT_EQ(ring.bytes(), 32u);
+    EXPECT_TRUE(ring.writable(0));
+    EXPECT_TRUE(ring.writable(1));
+    const std::array<std::uint8_t, 8> bytes = {1, 2, 3, 4, 5, 6, 7, 8};
+    const std::size_t at = ring.write(1, 4, std::as_bytes(std::span(bytes)));
+    EXPECT_EQ(at, 20u);  // region 1 starts at 16
+    gl::Buffer copy = gl::Buffer::create();
+    glNamedBufferStorage(copy.id(), 8, nullptr, 0);
+    glCopyNamedBufferSubData(ring.buffer(), copy.id(), GLintptr(at), 0, 8);
+    ring.fence(1);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!ring.writable(1) && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+    EXPECT_TRUE(ring.writable(1)) << "the copy finished";
+    std::array<std::uint8_t, 8> back{};
+    glGetNamedBufferSubData(copy.id(), 0, 8, back.data());
+    EXPECT_EQ(back, bytes);
+    EXPECT_NE(errorMessage([&] { ring.write(1, 12, std::as_bytes(std::span(bytes))); }).find("pass its end"),
+              std::string::npos);
+    EXPECT_NE(errorMessage([&] { ring.write(2, 0, std::as_bytes(std::span(bytes))); }).find("pass its end"),
+              std::string::npos);
     EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 

@@ -1,6 +1,7 @@
 #include "cubeao/gl/sync.h"
 
 #include <algorithm>
+#include <cstring>
 #include <string>
 
 #include "cubeao/core/error.h"
@@ -28,6 +29,27 @@ bool Fence::wait(std::chrono::nanoseconds timeout) {
 
 void Fence::reset() {
     if (sync_) glDeleteSync(std::exchange(sync_, nullptr));
+}
+
+UploadRing::UploadRing(std::size_t regions, std::size_t regionBytes)
+    : regionBytes_(regionBytes), fences_(std::max<std::size_t>(regions, 1)) {
+    buffer_ = Buffer::create();
+    const GLbitfield flags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+    glNamedBufferStorage(buffer_.id(), GLsizeiptr(std::max<std::size_t>(bytes(), 1)), nullptr, flags);
+    mapped_ = static_cast<std::byte*>(glMapNamedBufferRange(buffer_.id(), 0, GLsizeiptr(std::max<std::size_t>(bytes(), 1)), flags));
+    if (!mapped_)
+        throw Error("cannot map an upload ring of " + std::to_string(regions) + " × " + std::to_string(regionBytes) +
+                    " bytes (GL error " + std::to_string(glGetError()) + ")");
+}
+
+std::size_t UploadRing::write(std::size_t r, std::size_t offset, std::span<const std::byte> bytes) {
+    if (r >= fences_.size() || offset > regionBytes_ || bytes.size() > regionBytes_ - offset)
+        throw Error("upload ring: " + std::to_string(bytes.size()) + " bytes at " + std::to_string(offset) +
+                    " of region " + std::to_string(r) + " pass its end (" + std::to_string(fences_.size()) + " × " +
+                    std::to_string(regionBytes_) + " bytes)");
+    const std::size_t at = r * regionBytes_ + offset;
+    std::memcpy(mapped_ + at, bytes.data(), bytes.size());
+    return at;
 }
 
 ReadbackRingBytes::ReadbackRingBytes(std::size_t slots, std::size_t slotBytes)

@@ -55,6 +55,37 @@ private:
     GLsync sync_ = nullptr;
 };
 
+// The other direction: `regions` regions of `regionBytes` in one buffer persistently and coherently
+// mapped for writing. The host fills a region, GPU commands read it (texture uploads through
+// GL_PIXEL_UNPACK_BUFFER, buffer copies) and the region is fenced until they have: a region is
+// written again only once its fence has passed, so the host never overwrites bytes the GPU still
+// reads and never waits for it (a caller whose region is busy skips its uploads that frame).
+class UploadRing {
+public:
+    UploadRing() = default;
+    // Needs a current context; throws cubeao::Error when the buffer cannot be mapped.
+    UploadRing(std::size_t regions, std::size_t regionBytes);
+
+    // Whether region r may be written now (what was last read from it has been). Never waits.
+    bool writable(std::size_t r) { return fences_.at(r).passed(); }
+    // Copies `bytes` into region r at `offset` and returns their offset in buffer(), for the GL call
+    // that reads them. Throws cubeao::Error past the region's end.
+    std::size_t write(std::size_t r, std::size_t offset, std::span<const std::byte> bytes);
+    // Fences region r after the commands issued so far (those reading it).
+    void fence(std::size_t r) { fences_.at(r) = Fence::insert(); }
+
+    std::size_t regions() const { return fences_.size(); }
+    std::size_t regionBytes() const { return regionBytes_; }
+    std::size_t bytes() const { return regionBytes_ * fences_.size(); }
+    GLuint buffer() const { return buffer_.id(); }
+
+private:
+    Buffer buffer_;
+    std::byte* mapped_ = nullptr;
+    std::size_t regionBytes_ = 0;
+    std::vector<Fence> fences_;
+};
+
 // The byte-level ring under ReadbackRing<T> (kept out of the template so the GL code is compiled once).
 class ReadbackRingBytes {
 public:

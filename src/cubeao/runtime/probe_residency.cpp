@@ -147,9 +147,7 @@ std::size_t probeGpuBytes(const CacheParams& p) { return std::size_t(aoSectionSi
 // The staging ring (persistently mapped, written by the host, read by texture uploads) and the
 // feedback ring (written by the projection, read by the host once its copy has finished).
 struct ProbeResidency::Staging {
-    gl::Buffer upload;
-    std::uint8_t* uploadBytes = nullptr;
-    std::array<gl::Fence, kStagingRegions> uploadFences;
+    gl::UploadRing upload;  // kStagingRegions regions of uploadBound_ bytes, one per frame in turn
     // The projection's atomics go into `demand`, in GPU memory; endFrame copies it into the mapped
     // ring. Atomics straight into the persistently mapped ring cost 14 ms a 1080p frame at 2,000
     // probes and 130 ms at 20 on an H200 (host memory over PCIe, contended per probe), against
@@ -188,12 +186,7 @@ ProbeResidency::ProbeResidency(const ProbeSource& source, std::size_t fixedBytes
         while (want > 1 && fixed + atlasBytes(want) > settings.gpuBudgetBytes) --want;
     }
     allocateAtlas(want, settings.gpuBudgetBytes);
-    staging_->upload = gl::Buffer::create();
-    const GLbitfield writeFlags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
-    glNamedBufferStorage(staging_->upload.id(), GLsizeiptr(stagingBytes), nullptr, writeFlags);
-    staging_->uploadBytes =
-        static_cast<std::uint8_t*>(glMapNamedBufferRange(staging_->upload.id(), 0, GLsizeiptr(stagingBytes), writeFlags));
-    if (!staging_->uploadBytes) throw Error("probe residency: cannot map the staging buffer");
+    staging_->upload = gl::UploadRing(kStagingRegions, uploadBound_);
     syncProbes(source);
     stats_.slots = slots_;
 }
@@ -315,12 +308,11 @@ void ProbeResidency::upload(const ProbeView& p, std::uint32_t slot, bool direct)
     const void* depth = p.depth.data();
     if (!direct) {  // through this frame's staging region: the copy returns before the GPU reads it
         const std::size_t region = std::size_t(frame_ % std::int64_t(kStagingRegions));
-        const std::size_t offset = region * uploadBound_ + stats_.frameUploadBytes;
-        std::memcpy(staging_->uploadBytes + offset, p.aoConfidence.data(), p.aoConfidence.size());
-        std::memcpy(staging_->uploadBytes + offset + p.aoConfidence.size(), p.depth.data(), p.depth.size());
-        ao = reinterpret_cast<const void*>(offset);
-        depth = reinterpret_cast<const void*>(offset + p.aoConfidence.size());
-        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staging_->upload.id());
+        gl::UploadRing& ring = staging_->upload;
+        ao = reinterpret_cast<const void*>(ring.write(region, stats_.frameUploadBytes, std::as_bytes(p.aoConfidence)));
+        depth = reinterpret_cast<const void*>(
+            ring.write(region, stats_.frameUploadBytes + p.aoConfidence.size(), std::as_bytes(p.depth)));
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, ring.buffer());
     }
     glCompressedTextureSubImage3D(ao_.id(), 0, a.x, a.y, a.z, res, res, 6, GL_COMPRESSED_RG_RGTC2,
                                   GLsizei(p.aoConfidence.size()), ao);
@@ -337,8 +329,7 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
     stats_.frameUploads = 0, stats_.frameUploadBytes = 0;
     if (wanted.size() > slots_) wanted = wanted.first(slots_);
     const std::size_t region = std::size_t(frame_ % std::int64_t(kStagingRegions));
-    gl::Fence& regionFence = staging_->uploadFences[region];
-    if (!unbounded && !regionFence.passed()) {  // (unbounded uploads go straight from the source's memory)
+    if (!unbounded && !staging_->upload.writable(region)) {  // (unbounded uploads go straight from the source's memory)
         stats_.frameUploadMs = 0.0;  // the GPU still reads this region: load nothing this frame
         return;
     }
@@ -422,7 +413,7 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
     }
     glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
     if (stats_.frameUploads > 0) source.releaseAll();  // the bytes are staged (or copied by the driver)
-    if (!unbounded && stats_.frameUploads > 0) regionFence = gl::Fence::insert();
+    if (!unbounded && stats_.frameUploads > 0) staging_->upload.fence(region);
     if (frame_ > 0 && !unbounded) stats_.maxFrameUploadBytes = std::max(stats_.maxFrameUploadBytes, stats_.frameUploadBytes);
     stats_.frameUploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -452,7 +443,7 @@ std::size_t glTextureBytes(GLuint texture) {
 
 std::size_t ProbeResidency::allocatedGpuBytes() const {
     return glTextureBytes(ao_.id()) + glTextureBytes(distance_.id()) + glBufferBytes(table_.id()) +
-           glBufferBytes(staging_->upload.id()) + glBufferBytes(staging_->feedback.buffer()) +
+           glBufferBytes(staging_->upload.buffer()) + glBufferBytes(staging_->feedback.buffer()) +
            glBufferBytes(staging_->demand.id());
 }
 
