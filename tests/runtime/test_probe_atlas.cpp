@@ -1,4 +1,4 @@
-// Where the projection puts each probe in its textures (probeAtlasLayout, runtime/probe_projection.h).
+// Where the projection puts each probe in its textures (probeAtlasLayout, runtime/residency_planner.h).
 #include <gtest/gtest.h>
 
 #include <set>
@@ -6,7 +6,7 @@
 
 #include "common/runtime_layout.h"
 #include "cubeao/core/error.h"
-#include "cubeao/runtime/probe_projection.h"
+#include "cubeao/runtime/residency_planner.h"
 #include "test_util.h"
 
 namespace {

@@ -23,11 +23,6 @@ constexpr std::size_t kFeedbackRing = 3;  // feedback read 2 frames late at the 
 constexpr std::size_t kStagingRegions = 2;
 constexpr std::size_t kDefaultUploadBytes = std::size_t(8) << 20;
 constexpr std::size_t kReleaseBytes = std::size_t(64) << 20;  // unbounded updates drop cache pages this often
-// Eviction hysteresis: a probe used within kInUseFrames frames is replaced only by one whose demand
-// exceeds kSwapMargin times its own plus kSwapMinimum sampled pixels.
-constexpr std::int64_t kInUseFrames = 8;
-constexpr double kSwapMargin = 1.5, kSwapMinimum = 4.0;
-constexpr std::int64_t kFreshFrames = 30;
 constexpr std::uint32_t kNoSlot = kernel::kNoSlot;
 constexpr std::uint32_t kNoProbe = kernel::kNoProbe;
 
@@ -43,7 +38,6 @@ GLint glInteger(GLenum name) {
     return v;
 }
 std::size_t feedbackWords(std::size_t probes) { return std::max<std::size_t>(1, probes); }  // a count per probe
-std::string mib(std::size_t bytes) { return std::to_string(double(bytes) / double(1 << 20)).substr(0, 6) + " MiB"; }
 
 // Texel corner (x, y) and first layer of slot `slot`'s six faces in an atlas of size² tiles: where
 // project.comp's atlasTexel reads them.
@@ -52,26 +46,6 @@ glm::ivec3 slotCorner(const ProbeAtlasLayout& l, std::uint32_t slot, int size) {
 }
 
 }  // namespace
-
-std::uint32_t ProbeAtlasLayout::tile(std::uint32_t slot) const {
-    const int t = int(slot) % tilesPerPage();
-    return kernel::packAtlasTile(t % tilesX, t / tilesX, int(slot) / tilesPerPage());
-}
-
-ProbeAtlasLayout probeAtlasLayout(std::size_t slots, int res, int maxTextureSize, int maxLayers) {
-    const std::size_t perSide =
-        std::size_t(std::clamp(maxTextureSize / std::max(res, 1), 1, kernel::kMaxAtlasTiles - 1));
-    const std::size_t n = std::max<std::size_t>(slots, 1);
-    const std::size_t x = std::min(perSide, std::size_t(std::ceil(std::sqrt(double(n)))));
-    const std::size_t y = std::min(perSide, (n + x - 1) / x);
-    const std::size_t pages = (n + x * y - 1) / (x * y);
-    if (6 * pages > std::size_t(std::max(std::min(maxLayers, 6 * 1023), 0)))  // packAtlasTile: pages < 1024
-        throw Error(std::to_string(slots) + " probes at " + std::to_string(res) + "² per face need " +
-                    std::to_string(6 * pages) + " texture layers of " + std::to_string(x * std::size_t(res)) + "×" +
-                    std::to_string(y * std::size_t(res)) + "; this GL allows " + std::to_string(maxLayers) +
-                    " layers of at most " + std::to_string(maxTextureSize) + "²");
-    return {int(x), int(y), int(pages)};
-}
 
 // ---- ProbeSource ---------------------------------------------------------------------------------
 
@@ -168,46 +142,36 @@ ProbeResidency::ProbeResidency(const ProbeSource& source, std::size_t fixedBytes
     // alignment, at most 256 bytes)
     const std::size_t tableBytes =
         n * sizeof(kernel::ProbeEntry) + feedbackWords(n) * 4 + kFeedbackRing * (feedbackWords(n) * 4 + 256);
-    const std::size_t fixed = fixedBytes + stagingBytes + tableBytes;
-    std::size_t want = std::max(n, minSlots);
+    ResidencyBudget budget;
+    budget.budgetBytes = settings.gpuBudgetBytes;
+    budget.fixedBytes = fixedBytes + stagingBytes + tableBytes;
+    budget.probeBytes = perProbe;
+    budget.probes = settings.gpuBudgetBytes == 0 ? std::max(n, minSlots) : n;
+    budget.res = int(params_.res);
+    budget.maxTextureSize = glInteger(GL_MAX_TEXTURE_SIZE);
+    budget.maxLayers = glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS);
     unlimited_ = settings.gpuBudgetBytes == 0;
-    if (!unlimited_) {
-        if (settings.gpuBudgetBytes < fixed + perProbe)
-            throw Error("GPU budget " + mib(settings.gpuBudgetBytes) + " cannot hold one probe: a probe takes " +
-                        mib(perProbe) + " (" + std::to_string(params_.res) + "² faces), and the grid, probe table and " +
-                        "staging ring " + mib(fixed) + "; give at least " + mib(fixed + perProbe));
-        want = std::min(n, (settings.gpuBudgetBytes - fixed) / perProbe);
-        const int res = int(params_.res);
-        const int maxSize = glInteger(GL_MAX_TEXTURE_SIZE), maxLayers = glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS);
-        const auto atlasBytes = [&](std::size_t s) {
-            const ProbeAtlasLayout l = probeAtlasLayout(s, res, maxSize, maxLayers);
-            return std::size_t(l.tilesPerPage()) * std::size_t(l.pages) * perProbe;
-        };
-        while (want > 1 && fixed + atlasBytes(want) > settings.gpuBudgetBytes) --want;
-    }
-    allocateAtlas(want, settings.gpuBudgetBytes);
+    const ResidencyPool pool = residencyPool(budget);
+    planner_ = ResidencyPlanner(pool.slots, perProbe, uploadBound_);
+    allocateAtlas(pool);
     staging_->upload = gl::UploadRing(kStagingRegions, uploadBound_);
     syncProbes(source);
-    stats_.slots = slots_;
+    stats_.slots = slots();
 }
 
 ProbeResidency::~ProbeResidency() = default;
 
-// Atlases for `slots` probes: every tile of the pages they need is a slot (a partly used page costs
-// the same), except without a budget, where the pool is exactly the probe count until it grows.
-void ProbeResidency::allocateAtlas(std::size_t slots, std::size_t budget) {
+// Atlases for the pool's layout (the planner has its slots).
+void ProbeResidency::allocateAtlas(const ResidencyPool& pool) {
     const int res = int(params_.res), depthRes = int(params_.depthRes);
-    atlas_ = probeAtlasLayout(slots, res, glInteger(GL_MAX_TEXTURE_SIZE), glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS));
-    const std::size_t tiles = std::size_t(atlas_.tilesPerPage()) * std::size_t(atlas_.pages);
-    slots_ = budget == 0 ? std::max<std::size_t>(slots, 1) : tiles;
-    atlasBytes_ = tiles * probeGpuBytes(params_);
+    atlas_ = pool.atlas;
+    atlasBytes_ = pool.atlasBytes;
     const auto layers = GLsizei(6 * atlas_.pages);
     ao_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
     glTextureStorage3D(ao_.id(), 1, GL_COMPRESSED_RG_RGTC2, atlas_.tilesX * res, atlas_.tilesY * res, layers);
     distance_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
     glTextureStorage3D(distance_.id(), 1, depthInternalFormat(params_.depthFormat), atlas_.tilesX * depthRes,
                        atlas_.tilesY * depthRes, layers);
-    owner_.resize(slots_, kNoProbe);
 }
 
 // A pool twice the size (at least `slots`): new atlases, every resident probe's tiles copied on the
@@ -215,18 +179,26 @@ void ProbeResidency::allocateAtlas(std::size_t slots, std::size_t budget) {
 void ProbeResidency::growAtlas(std::size_t slots, const ProbeSource& source) {
     const ProbeAtlasLayout old = atlas_;
     gl::Texture oldAo = std::move(ao_), oldDistance = std::move(distance_);
-    allocateAtlas(std::max(slots, 2 * slots_), 0);
-    for (std::uint32_t s = 0; s < owner_.size(); ++s) {
-        if (owner_[s] == kNoProbe) continue;
+    ResidencyBudget grown;  // no budget: exactly this many slots
+    grown.probeBytes = probeGpuBytes(params_);
+    grown.probes = std::max(slots, 2 * planner_.slots());
+    grown.res = int(params_.res);
+    grown.maxTextureSize = glInteger(GL_MAX_TEXTURE_SIZE);
+    grown.maxLayers = glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS);
+    const ResidencyPool pool = residencyPool(grown);
+    allocateAtlas(pool);
+    planner_.growSlots(pool.slots);
+    for (std::uint32_t s = 0; s < planner_.slots(); ++s) {
+        if (planner_.ownerOf(s) == kNoProbe) continue;
         for (const auto& [from, to, size] : {std::tuple(oldAo.id(), ao_.id(), int(params_.res)),
                                              std::tuple(oldDistance.id(), distance_.id(), int(params_.depthRes))}) {
             const glm::ivec3 a = slotCorner(old, s, size), b = slotCorner(atlas_, s, size);
             glCopyImageSubData(from, GL_TEXTURE_2D_ARRAY, 0, a.x, a.y, a.z, to, GL_TEXTURE_2D_ARRAY, 0, b.x, b.y, b.z,
                                size, size, 6);
         }
-        writeEntry(owner_[s], source);  // same slot, another tile
+        writeEntry(planner_.ownerOf(s), source);  // same slot, another tile
     }
-    stats_.slots = slots_;
+    stats_.slots = planner_.slots();
 }
 
 void ProbeResidency::ensureCapacity(std::size_t probes) {
@@ -245,30 +217,25 @@ void ProbeResidency::ensureCapacity(std::size_t probes) {
     glNamedBufferStorage(staging_->demand.id(), GLsizeiptr(staging_->words * 4), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
-bool ProbeResidency::isResident(std::uint32_t id) const { return id < slotOf_.size() && slotOf_[id] != kNoSlot; }
-
 void ProbeResidency::writeEntry(std::uint32_t id, const ProbeSource& source) {
     kernel::ProbeEntry e{};
     e.position = source.position(id);
     e.distanceScale = source.distanceScale(id);
-    e.slot = slotOf_[id];
+    e.slot = planner_.slotOf(id);
     e.tile = e.slot == kNoSlot ? kNoSlot : atlas_.tile(e.slot);
     ++residentVersion_;  // called whenever a probe's slot changes
     glNamedBufferSubData(table_.id(), GLintptr(id * sizeof e), sizeof e, &e);
 }
 
 void ProbeResidency::syncProbes(const ProbeSource& source) {
-    const std::size_t before = slotOf_.size();
+    const std::size_t before = planner_.probes();
     std::size_t live = 0;
     for (std::uint32_t id = 0; id < source.size(); ++id) live += source.isLive(id) ? 1 : 0;
-    if (unlimited_ && live > slots_ && table_.id() != 0) growAtlas(live, source);
+    if (unlimited_ && live > slots() && table_.id() != 0) growAtlas(live, source);
     ensureCapacity(source.size());
     stats_.gpuBytes = atlasBytes_ + kStagingRegions * uploadBound_ + capacity_ * sizeof(kernel::ProbeEntry) +
                       staging_->feedback.bytes() + staging_->words * 4;  // what allocateAtlas and ensureCapacity hold now
-    slotOf_.resize(source.size(), kNoSlot);
-    lastUsed_.resize(source.size(), -1);
-    demand_.resize(source.size(), 0u);
-    loadedAt_.resize(source.size(), -1);
+    planner_.resizeProbes(source.size());
     if (source.size() > before) {  // new ids: one write of the whole range
         std::vector<kernel::ProbeEntry> entries(source.size() - before);
         for (std::size_t i = 0; i < entries.size(); ++i) {
@@ -278,27 +245,14 @@ void ProbeResidency::syncProbes(const ProbeSource& source) {
         glNamedBufferSubData(table_.id(), GLintptr(before * sizeof(kernel::ProbeEntry)),
                              GLsizeiptr(entries.size() * sizeof(kernel::ProbeEntry)), entries.data());
     }
-    for (std::uint32_t id = 0; id < slotOf_.size(); ++id)  // removed probes leave their slots
-        if (!source.isLive(id) && slotOf_[id] != kNoSlot) {
-            owner_[slotOf_[id]] = kNoProbe;
-            slotOf_[id] = kNoSlot;
-            writeEntry(id, source);
-            --stats_.resident;
-        }
+    for (std::uint32_t id = 0; id < planner_.probes(); ++id)  // removed probes leave their slots
+        if (!source.isLive(id) && planner_.remove(id) != kNoSlot) writeEntry(id, source);
+    stats_.resident = planner_.resident();
 }
 
 void ProbeResidency::readFeedback() {
-    while (const auto slot = staging_->feedback.poll()) {  // oldest first
-        const std::span<const std::uint32_t> counts = slot->data;
-        const std::int64_t frame = slot->tag;
-        const bool newest = frame > demandFrame_;
-        if (newest) std::fill(demand_.begin(), demand_.end(), 0u), demandFrame_ = frame;
-        for (std::size_t id = 0; id < std::min(staging_->words, lastUsed_.size()); ++id) {
-            if (counts[id] == 0) continue;
-            lastUsed_[id] = std::max(lastUsed_[id], frame);
-            if (newest) demand_[id] = counts[id];
-        }
-    }
+    while (const auto slot = staging_->feedback.poll())  // oldest first
+        planner_.feedback(slot->data.first(std::min(staging_->words, slot->data.size())), slot->tag);
 }
 
 void ProbeResidency::upload(const ProbeView& p, std::uint32_t slot, bool direct) {
@@ -307,7 +261,7 @@ void ProbeResidency::upload(const ProbeView& p, std::uint32_t slot, bool direct)
     const void* ao = p.aoConfidence.data();
     const void* depth = p.depth.data();
     if (!direct) {  // through this frame's staging region: the copy returns before the GPU reads it
-        const std::size_t region = std::size_t(frame_ % std::int64_t(kStagingRegions));
+        const std::size_t region = std::size_t(frame() % std::int64_t(kStagingRegions));
         gl::UploadRing& ring = staging_->upload;
         ao = reinterpret_cast<const void*>(ring.write(region, stats_.frameUploadBytes, std::as_bytes(p.aoConfidence)));
         depth = reinterpret_cast<const void*>(
@@ -327,76 +281,32 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
     const auto start = std::chrono::steady_clock::now();
     readFeedback();
     stats_.frameUploads = 0, stats_.frameUploadBytes = 0;
-    if (wanted.size() > slots_) wanted = wanted.first(slots_);
-    const std::size_t region = std::size_t(frame_ % std::int64_t(kStagingRegions));
+    const std::size_t region = std::size_t(frame() % std::int64_t(kStagingRegions));
     if (!unbounded && !staging_->upload.writable(region)) {  // (unbounded uploads go straight from the source's memory)
         stats_.frameUploadMs = 0.0;  // the GPU still reads this region: load nothing this frame
         return;
     }
-
-    std::vector<bool> isWanted;  // over ids, only when a slot must be freed
-    std::vector<std::uint32_t> victims;
-    bool victimsMade = false;
-    std::size_t nextFree = 0, releasedAt = 0;
-    const std::size_t perProbe = probeGpuBytes(params_);
+    std::size_t releasedAt = 0;
     GLint unpackAlignment = 4;
     glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // distance rows are 2 · depthRes bytes: odd depthRes is not 4-aligned
-    for (std::size_t w = 0; w < wanted.size(); ++w) {
-        const std::uint32_t id = wanted[w];
-        if (!source.isLive(id) || slotOf_[id] != kNoSlot) continue;
-        if (!unbounded && stats_.frameUploadBytes + perProbe > uploadBound_) {
-            // Ask the kernel for the next ones now, so they are in memory when their frame comes.
-            for (std::size_t a = w; a < std::min(wanted.size(), w + 2 * uploadBound_ / perProbe); ++a)
-                if (slotOf_[wanted[a]] == kNoSlot) source.prefetch(wanted[a]);
-            break;
-        }
-        while (nextFree < owner_.size() && owner_[nextFree] != kNoProbe) ++nextFree;
-        std::uint32_t victim = kNoProbe;  // kNoProbe: slot nextFree is free
-        if (nextFree == owner_.size()) {
-            if (!victimsMade) {  // resident, not wanted: the least demanded, then least recently used, first
-                isWanted.assign(slotOf_.size(), false);
-                for (std::uint32_t v : wanted) isWanted[v] = true;
-                for (std::uint32_t s = 0; s < owner_.size(); ++s)
-                    if (owner_[s] != kNoProbe && !isWanted[owner_[s]]) victims.push_back(owner_[s]);
-                std::sort(victims.begin(), victims.end(), [&](std::uint32_t a, std::uint32_t b) {
-                    if (demand_[a] != demand_[b]) return demand_[a] > demand_[b];
-                    return lastUsed_[a] != lastUsed_[b] ? lastUsed_[a] > lastUsed_[b] : a > b;
-                });  // popped from the back
-                victimsMade = true;
-            }
-            if (victims.empty()) break;  // every resident probe is wanted more
-            victim = victims.back();
-            // Hysteresis: a probe the pixels use gives way only to one they want clearly more, or two
-            // probes of similar demand would swap places every frame (and every swap is an upload).
-            // A probe only ranked by place (no pixel asked for it yet) does not displace one loaded
-            // within kFreshFrames: as the camera moves, the places near the cut of the ranking swap.
-            const bool victimInUse = lastUsed_[victim] >= frame_ - kInUseFrames;
-            if (victimInUse && double(demand_[id]) <= kSwapMargin * double(demand_[victim]) + kSwapMinimum) break;
-            if (demand_[id] == 0 && loadedAt_[victim] >= frame_ - kFreshFrames) break;
-        }
-        // The probe will be loaded: its bytes are read (a cache probe's checksum checked on first use)
-        // before its slot is freed, and not at all for a probe the hysteresis keeps out.
+    planner_.beginFrame(wanted, unbounded);
+    while (const std::optional<ResidencyPlanner::Load> load = planner_.next()) {
+        // The probe's bytes are read (a cache probe's checksum checked on first use) before its slot
+        // is freed.
         ProbeView bytes;
         try {
-            source.prefetch(id);  // one read of its pages, if the frames before did not ask already
-            bytes = source.view(id);
+            source.prefetch(load->probe);  // one read of its pages, if the frames before did not ask already
+            bytes = source.view(load->probe);
         } catch (const Error& e) {
-            damaged_.push_back({id, e.what()});
+            damaged_.push_back({load->probe, e.what()});
             ++stats_.damaged;
+            planner_.skipped(*load);
             continue;
         }
-        auto slot = std::uint32_t(nextFree);
-        if (victim != kNoProbe) {
-            victims.pop_back();
-            slot = slotOf_[victim];
-            slotOf_[victim] = kNoSlot;
-            owner_[slot] = kNoProbe;
-            writeEntry(victim, source);
-            ++stats_.evictions;
-            --stats_.resident;
-        }
-        upload(bytes, slot, unbounded);
+        planner_.loaded(*load);
+        if (load->evicted != kNoProbe) writeEntry(load->evicted, source);
+        upload(bytes, load->slot, unbounded);
         // An unbounded update (the first frame, a cut) reads every probe it loads straight from the
         // mapping: drop the pages every kReleaseBytes, or the whole pool's worth stays resident
         // until the end of the batch (peak RSS = pool + its copy in the page cache).
@@ -404,17 +314,14 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
             source.releaseAll();
             releasedAt = stats_.frameUploadBytes;
         }
-        owner_[slot] = id;
-        slotOf_[id] = slot;
-        loadedAt_[id] = frame_;
-        writeEntry(id, source);
-        ++stats_.loads;
-        ++stats_.resident;
+        writeEntry(load->probe, source);
     }
+    for (const std::uint32_t id : planner_.readAhead()) source.prefetch(id);  // in memory when their frame comes
     glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
     if (stats_.frameUploads > 0) source.releaseAll();  // the bytes are staged (or copied by the driver)
     if (!unbounded && stats_.frameUploads > 0) staging_->upload.fence(region);
-    if (frame_ > 0 && !unbounded) stats_.maxFrameUploadBytes = std::max(stats_.maxFrameUploadBytes, stats_.frameUploadBytes);
+    stats_.loads = planner_.loads(), stats_.evictions = planner_.evictions(), stats_.resident = planner_.resident();
+    if (frame() > 0 && !unbounded) stats_.maxFrameUploadBytes = std::max(stats_.maxFrameUploadBytes, stats_.frameUploadBytes);
     stats_.frameUploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -458,8 +365,8 @@ void ProbeResidency::bind() {
 }
 
 void ProbeResidency::endFrame() {
-    staging_->feedback.push(staging_->demand.id(), frame_);  // the pass's atomics, read a frame or more later
-    ++frame_;
+    staging_->feedback.push(staging_->demand.id(), frame());  // the pass's atomics, read a frame or more later
+    planner_.endFrame();
 }
 
 }  // namespace cubeao

@@ -8,7 +8,8 @@
 // one the pixels used least recently first (sampled feedback of shaders/runtime/project.comp, read
 // frames later through fences; never waited for). The caller ranks by that feedback too (what the
 // pixels used and what they had to pass over), so a probe the frame's pixels use is never dropped
-// while a worse one stays.
+// while a worse one stays. Those rules are ResidencyPlanner's (residency_planner.h, no GL); this class
+// applies its plan: uploads, the probe table, the feedback ring.
 //
 // ProbeSource is where the bytes live: a mapped cache (pages prefetched before and released after the
 // upload, so the RSS does not grow with the cache) and probes added at run time.
@@ -25,25 +26,9 @@
 
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/gl/handles.h"
+#include "cubeao/runtime/residency_planner.h"
 
 namespace cubeao {
-
-// Where slot i's six faces live in the array textures: tile t = i mod (tilesX · tilesY) of page
-// p = i / (tilesX · tilesY), tiles in rows of tilesX, face f of page p in layer 6p + f; a tile is
-// res × res texels in the AO texture and depthRes × depthRes in the distance one. Tiles rather than
-// six layers per probe because GL_MAX_ARRAY_TEXTURE_LAYERS is 2048 on llvmpipe and on NVIDIA, i.e.
-// 341 probes; a 16384² page holds 1,024 probes at 512² or 10,000 at 16² (bench render's sweep).
-struct ProbeAtlasLayout {
-    int tilesX = 1, tilesY = 1, pages = 1;
-    int tilesPerPage() const { return tilesX * tilesY; }
-    // Slot `slot`'s tile packed as the projection reads it (ProbeEntry::tile, kernel::packAtlasTile).
-    std::uint32_t tile(std::uint32_t slot) const;
-};
-
-// A near-square page just big enough for `slots` (tilesX = ⌈√slots⌉), at most maxTextureSize / res
-// (and kernel::kMaxAtlasTiles) tiles a side, then more pages. Error naming the counts when 6 · pages
-// exceeds maxLayers.
-ProbeAtlasLayout probeAtlasLayout(std::size_t slots, int res, int maxTextureSize, int maxLayers);
 
 // Probes by id: the cache's probes first (id = cache order), then those added at run time. Removed
 // probes keep their id.
@@ -121,9 +106,9 @@ public:
 
     // Slots in the pool. Without a budget the pool holds every live probe and grows (the atlas is
     // copied on the GPU into one twice the size) when probes are added beyond it.
-    std::size_t slots() const { return slots_; }
+    std::size_t slots() const { return planner_.slots(); }
     std::size_t uploadBound() const { return uploadBound_; }  // bytes per frame at most
-    std::int64_t frame() const { return frame_; }  // frames bound so far
+    std::int64_t frame() const { return planner_.frame(); }  // frames bound so far
     // Keeps the probe table in step with the source (new ids, removed ones); call after add/remove.
     void syncProbes(const ProbeSource& source);
 
@@ -143,9 +128,9 @@ public:
     // Frame in which the pixels last used or wanted probe `id` according to the feedback read so far
     // (-1: never), and the newest feedback's demand: sampled pixels (every 4th in x and y) that blended
     // it or had to pass over it while it was not resident.
-    std::int64_t lastUsed(std::uint32_t id) const { return id < lastUsed_.size() ? lastUsed_[id] : -1; }
-    std::uint32_t demand(std::uint32_t id) const { return id < demand_.size() ? demand_[id] : 0u; }
-    bool isResident(std::uint32_t id) const;
+    std::int64_t lastUsed(std::uint32_t id) const { return planner_.lastUsed(id); }
+    std::uint32_t demand(std::uint32_t id) const { return planner_.demand(id); }
+    bool isResident(std::uint32_t id) const { return planner_.isResident(id); }
     // Changes whenever a probe enters or leaves the pool (a load, an eviction, a removal).
     std::uint64_t residentVersion() const { return residentVersion_; }
 
@@ -166,27 +151,21 @@ public:
 private:
     struct Staging;
     void ensureCapacity(std::size_t probes);
-    void allocateAtlas(std::size_t slots, std::size_t budget);
+    void allocateAtlas(const ResidencyPool& pool);
     void growAtlas(std::size_t slots, const ProbeSource& source);
     void writeEntry(std::uint32_t id, const ProbeSource& source);
     void readFeedback();
     void upload(const ProbeView& bytes, std::uint32_t slot, bool direct);
 
     CacheParams params_;
-    std::size_t slots_ = 0, capacity_ = 0, uploadBound_ = 0;
+    std::size_t capacity_ = 0, uploadBound_ = 0;
     bool unlimited_ = false;  // no budget: grow with the probe set
     ProbeAtlasLayout atlas_;
     gl::Texture ao_, distance_;
     gl::Buffer table_;
-    std::vector<std::uint32_t> slotOf_;       // per probe id, kernel::kNoSlot when not resident
-    std::vector<std::uint32_t> owner_;        // per slot, kernel::kNoProbe when free
-    std::vector<std::int64_t> lastUsed_;      // per probe id
-    std::vector<std::uint32_t> demand_;       // per probe id, of frame demandFrame_
-    std::int64_t demandFrame_ = -1;
-    std::vector<std::int64_t> loadedAt_;      // per probe id: frame of its last load
+    ResidencyPlanner planner_{0, 1, 0};  // slots, residents and the feedback, by probe id
     std::unique_ptr<Staging> staging_;
     std::vector<Damaged> damaged_;
-    std::int64_t frame_ = 0;
     std::uint64_t residentVersion_ = 0;
     std::size_t atlasBytes_ = 0;
     ResidencyStats stats_;

@@ -1,0 +1,169 @@
+#include "cubeao/runtime/residency_planner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "common/runtime_layout.h"
+#include "cubeao/core/error.h"
+
+namespace cubeao {
+
+static_assert(ResidencyPlanner::kNone == kernel::kNoSlot && ResidencyPlanner::kNone == kernel::kNoProbe);
+
+namespace {
+
+std::string mib(std::size_t bytes) { return std::to_string(double(bytes) / double(1 << 20)).substr(0, 6) + " MiB"; }
+
+}  // namespace
+
+std::uint32_t ProbeAtlasLayout::tile(std::uint32_t slot) const {
+    const int t = int(slot) % tilesPerPage();
+    return kernel::packAtlasTile(t % tilesX, t / tilesX, int(slot) / tilesPerPage());
+}
+
+ProbeAtlasLayout probeAtlasLayout(std::size_t slots, int res, int maxTextureSize, int maxLayers) {
+    const std::size_t perSide =
+        std::size_t(std::clamp(maxTextureSize / std::max(res, 1), 1, kernel::kMaxAtlasTiles - 1));
+    const std::size_t n = std::max<std::size_t>(slots, 1);
+    const std::size_t x = std::min(perSide, std::size_t(std::ceil(std::sqrt(double(n)))));
+    const std::size_t y = std::min(perSide, (n + x - 1) / x);
+    const std::size_t pages = (n + x * y - 1) / (x * y);
+    if (6 * pages > std::size_t(std::max(std::min(maxLayers, 6 * 1023), 0)))  // packAtlasTile: pages < 1024
+        throw Error(std::to_string(slots) + " probes at " + std::to_string(res) + "² per face need " +
+                    std::to_string(6 * pages) + " texture layers of " + std::to_string(x * std::size_t(res)) + "×" +
+                    std::to_string(y * std::size_t(res)) + "; this GL allows " + std::to_string(maxLayers) +
+                    " layers of at most " + std::to_string(maxTextureSize) + "²");
+    return {int(x), int(y), int(pages)};
+}
+
+ResidencyPool residencyPool(const ResidencyBudget& b) {
+    const auto layout = [&](std::size_t slots) { return probeAtlasLayout(slots, b.res, b.maxTextureSize, b.maxLayers); };
+    ResidencyPool pool;
+    if (b.budgetBytes == 0) {  // exactly the probes, growing with them
+        pool.slots = std::max<std::size_t>(b.probes, 1);
+        pool.atlas = layout(pool.slots);
+        pool.atlasBytes = pool.atlas.tiles() * b.probeBytes;
+        return pool;
+    }
+    if (b.budgetBytes < b.fixedBytes + b.probeBytes)
+        throw Error("GPU budget " + mib(b.budgetBytes) + " cannot hold one probe: a probe takes " + mib(b.probeBytes) +
+                    " (" + std::to_string(b.res) + "² faces), and the grid, probe table and staging ring " +
+                    mib(b.fixedBytes) + "; give at least " + mib(b.fixedBytes + b.probeBytes));
+    // A partly used page costs as much as a full one: fewer probes until whole pages fit.
+    std::size_t want = std::min(std::max<std::size_t>(b.probes, 1), (b.budgetBytes - b.fixedBytes) / b.probeBytes);
+    while (want > 1 && b.fixedBytes + layout(want).tiles() * b.probeBytes > b.budgetBytes) --want;
+    pool.atlas = layout(want);
+    pool.slots = pool.atlas.tiles();  // every tile of the pages paid for is a slot
+    pool.atlasBytes = pool.slots * b.probeBytes;
+    return pool;
+}
+
+// ---- ResidencyPlanner ----------------------------------------------------------------------------
+
+ResidencyPlanner::ResidencyPlanner(std::size_t slots, std::size_t probeBytes, std::size_t uploadBound)
+    : probeBytes_(std::max<std::size_t>(probeBytes, 1)), uploadBound_(uploadBound), owner_(slots, kNone) {}
+
+void ResidencyPlanner::growSlots(std::size_t slots) {
+    if (slots > owner_.size()) owner_.resize(slots, kNone);
+}
+
+void ResidencyPlanner::resizeProbes(std::size_t probes) {
+    slot_.resize(probes, kNone);
+    live_.resize(probes, 1);
+    lastUsed_.resize(probes, -1);
+    demand_.resize(probes, 0u);
+    loadedAt_.resize(probes, -1);
+}
+
+std::uint32_t ResidencyPlanner::remove(std::uint32_t id) {
+    if (id >= slot_.size()) return kNone;
+    live_[id] = 0;
+    const std::uint32_t slot = slot_[id];
+    if (slot != kNone) {
+        owner_[slot] = kNone;
+        slot_[id] = kNone;
+        --resident_;
+    }
+    return slot;
+}
+
+void ResidencyPlanner::feedback(std::span<const std::uint32_t> counts, std::int64_t frame) {
+    const bool newest = frame > demandFrame_;
+    if (newest) std::fill(demand_.begin(), demand_.end(), 0u), demandFrame_ = frame;
+    for (std::size_t id = 0; id < std::min(counts.size(), lastUsed_.size()); ++id) {
+        if (counts[id] == 0) continue;
+        lastUsed_[id] = std::max(lastUsed_[id], frame);
+        if (newest) demand_[id] = counts[id];
+    }
+}
+
+void ResidencyPlanner::beginFrame(std::span<const std::uint32_t> wanted, bool unbounded) {
+    if (wanted.size() > slots()) wanted = wanted.first(slots());
+    wanted_.assign(wanted.begin(), wanted.end());
+    victims_.clear();
+    readAhead_.clear();
+    unbounded_ = unbounded;
+    victimsMade_ = false;
+    cursor_ = 0, nextFree_ = 0, frameLoads_ = 0;
+}
+
+std::optional<ResidencyPlanner::Load> ResidencyPlanner::next() {
+    using H = ResidencyHysteresis;
+    for (; cursor_ < wanted_.size(); ++cursor_) {
+        const std::uint32_t id = wanted_[cursor_];
+        if (id >= slot_.size() || !live_[id] || slot_[id] != kNone) continue;
+        if (!unbounded_ && (frameLoads_ + 1) * probeBytes_ > uploadBound_) {
+            // The next ones, so that their bytes are in memory when their frame comes.
+            const std::size_t end = std::min(wanted_.size(), cursor_ + 2 * uploadBound_ / probeBytes_);
+            for (std::size_t a = cursor_; a < end; ++a)
+                if (slotOf(wanted_[a]) == kNone) readAhead_.push_back(wanted_[a]);
+            finish();
+            return std::nullopt;
+        }
+        while (nextFree_ < owner_.size() && owner_[nextFree_] != kNone) ++nextFree_;
+        if (nextFree_ < owner_.size()) return Load{id, std::uint32_t(nextFree_), kNone};
+        if (!victimsMade_) {  // resident, not wanted: the least demanded, then least recently used, first
+            std::vector<bool> isWanted(slot_.size(), false);
+            for (std::uint32_t v : wanted_)
+                if (v < isWanted.size()) isWanted[v] = true;
+            for (std::uint32_t owner : owner_)
+                if (owner != kNone && !isWanted[owner]) victims_.push_back(owner);
+            std::sort(victims_.begin(), victims_.end(), [&](std::uint32_t a, std::uint32_t b) {
+                if (demand_[a] != demand_[b]) return demand_[a] > demand_[b];
+                return lastUsed_[a] != lastUsed_[b] ? lastUsed_[a] > lastUsed_[b] : a > b;
+            });  // taken from the back
+            victimsMade_ = true;
+        }
+        if (victims_.empty()) break;  // every resident probe is wanted more
+        const std::uint32_t victim = victims_.back();
+        // Hysteresis: a probe the pixels use gives way only to one they want clearly more, or two
+        // probes of similar demand would swap places every frame (and every swap is an upload).
+        // A probe only ranked by place (no pixel asked for it yet) does not displace one loaded
+        // within kFreshFrames: as the camera moves, the places near the cut of the ranking swap.
+        const bool victimInUse = lastUsed_[victim] >= frame_ - H::kInUseFrames;
+        if (victimInUse && double(demand_[id]) <= H::kSwapMargin * double(demand_[victim]) + H::kSwapMinimum) break;
+        if (demand_[id] == 0 && loadedAt_[victim] >= frame_ - H::kFreshFrames) break;
+        return Load{id, slot_[victim], victim};
+    }
+    finish();
+    return std::nullopt;
+}
+
+void ResidencyPlanner::loaded(const Load& load) {
+    if (load.evicted != kNone) {
+        victims_.pop_back();  // next() offered the back of the list
+        slot_[load.evicted] = kNone;
+        ++evictions_;
+        --resident_;
+    }
+    owner_[load.slot] = load.probe;
+    slot_[load.probe] = load.slot;
+    loadedAt_[load.probe] = frame_;
+    ++loads_, ++resident_, ++frameLoads_;
+    ++cursor_;
+}
+
+void ResidencyPlanner::skipped(const Load&) { ++cursor_; }
+
+}  // namespace cubeao

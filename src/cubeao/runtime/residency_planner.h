@@ -1,0 +1,132 @@
+// The residency's decisions without GL (DESIGN.md §4 "Run time that grows"): how many probe slots a
+// GPU budget holds, which wanted probe goes into which slot this frame, whom it evicts, and when the
+// per-frame upload bound or the eviction hysteresis says "not this frame". ProbeResidency (GL) reads
+// the pixels' feedback, asks this planner, uploads what it says and writes the probe table; the
+// rules live here so that they are tested on the CPU (tests/runtime/test_residency_planner.cpp).
+//
+// A frame: feedback() for every read-back the GPU has finished, beginFrame(wanted), then next()
+// until it gives nothing; the caller reads each load's bytes and calls loaded() (or skipped() when
+// they fail their checksum: the next load may take the same slot), then endFrame().
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace cubeao {
+
+// Where slot i's six faces live in the array textures: tile t = i mod (tilesX · tilesY) of page
+// p = i / (tilesX · tilesY), tiles in rows of tilesX, face f of page p in layer 6p + f; a tile is
+// res × res texels in the AO texture and depthRes × depthRes in the distance one. Tiles rather than
+// six layers per probe because GL_MAX_ARRAY_TEXTURE_LAYERS is 2048 on llvmpipe and on NVIDIA, i.e.
+// 341 probes; a 16384² page holds 1,024 probes at 512² or 10,000 at 16² (bench render's sweep).
+struct ProbeAtlasLayout {
+    int tilesX = 1, tilesY = 1, pages = 1;
+    int tilesPerPage() const { return tilesX * tilesY; }
+    std::size_t tiles() const { return std::size_t(tilesPerPage()) * std::size_t(pages); }
+    // Slot `slot`'s tile packed as the projection reads it (ProbeEntry::tile, kernel::packAtlasTile).
+    std::uint32_t tile(std::uint32_t slot) const;
+};
+
+// A near-square page just big enough for `slots` (tilesX = ⌈√slots⌉), at most maxTextureSize / res
+// (and kernel::kMaxAtlasTiles) tiles a side, then more pages. Error naming the counts when 6 · pages
+// exceeds maxLayers.
+ProbeAtlasLayout probeAtlasLayout(std::size_t slots, int res, int maxTextureSize, int maxLayers);
+
+// What a GPU budget has to hold: the residency's and its caller's fixed buffers, then whole atlas
+// pages of probes.
+struct ResidencyBudget {
+    std::size_t budgetBytes = 0;  // 0: no budget (room for every probe, growing with them)
+    std::size_t fixedBytes = 0;   // staging, probe table, feedback and the caller's own (grid, counters)
+    std::size_t probeBytes = 0;   // one probe's AO and distance texels
+    std::size_t probes = 0;       // the probes there are (at least 1 slot is made)
+    int res = 1, maxTextureSize = 1, maxLayers = 6;
+};
+struct ResidencyPool {
+    ProbeAtlasLayout atlas;
+    std::size_t slots = 0;       // without a budget exactly `probes`; with one, every tile of its pages
+    std::size_t atlasBytes = 0;  // every tile, used or not
+};
+// The largest pool whose atlas pages fit the budget beside the fixed bytes. Error when it cannot hold
+// one probe, naming the least budget that can.
+ResidencyPool residencyPool(const ResidencyBudget& budget);
+
+// Eviction hysteresis: a probe the pixels used within kInUseFrames frames is replaced only by one
+// whose demand exceeds kSwapMargin times its own plus kSwapMinimum sampled pixels; a probe wanted
+// only by place (no pixel asked for it) does not displace one loaded within kFreshFrames.
+struct ResidencyHysteresis {
+    static constexpr std::int64_t kInUseFrames = 8;
+    static constexpr double kSwapMargin = 1.5, kSwapMinimum = 4.0;
+    static constexpr std::int64_t kFreshFrames = 30;
+};
+
+class ResidencyPlanner {
+public:
+    static constexpr std::uint32_t kNone = 0xffffffffu;  // no slot, no probe (kernel::kNoSlot, kNoProbe)
+
+    // `uploadBound` bytes a frame at most, `probeBytes` a load.
+    ResidencyPlanner(std::size_t slots, std::size_t probeBytes, std::size_t uploadBound);
+
+    std::size_t slots() const { return owner_.size(); }
+    std::size_t probes() const { return slot_.size(); }  // ids known
+    std::size_t resident() const { return resident_; }
+    std::int64_t frame() const { return frame_; }
+    std::size_t loads() const { return loads_; }      // since the start
+    std::size_t evictions() const { return evictions_; }
+    std::size_t frameLoads() const { return frameLoads_; }
+
+    // More slots, numbered after the existing ones (a pool that grows without a budget).
+    void growSlots(std::size_t slots);
+    // Probe ids 0 … probes − 1 known (new ones are live, not resident).
+    void resizeProbes(std::size_t probes);
+    // Probe `id` is gone: its slot, if it held one, is free. Returns that slot (kNone: it held none).
+    std::uint32_t remove(std::uint32_t id);
+
+    std::uint32_t slotOf(std::uint32_t id) const { return id < slot_.size() ? slot_[id] : kNone; }
+    std::uint32_t ownerOf(std::uint32_t slot) const { return owner_[slot]; }
+    bool isResident(std::uint32_t id) const { return slotOf(id) != kNone; }
+    // Frame in which the pixels last used or wanted probe `id` (-1: never), and the newest feedback's
+    // demand for it (sampled pixels that blended it or passed over it while it was not resident).
+    std::int64_t lastUsed(std::uint32_t id) const { return id < lastUsed_.size() ? lastUsed_[id] : -1; }
+    std::uint32_t demand(std::uint32_t id) const { return id < demand_.size() ? demand_[id] : 0u; }
+
+    // The pixels' counts per probe id of frame `frame` (read back, oldest first).
+    void feedback(std::span<const std::uint32_t> counts, std::int64_t frame);
+
+    // This frame's wanted probes, best first (at most slots() are considered); `unbounded` lifts the
+    // upload bound (a viewer's start, a cut).
+    void beginFrame(std::span<const std::uint32_t> wanted, bool unbounded);
+    struct Load {
+        std::uint32_t probe = kNone, slot = kNone;
+        std::uint32_t evicted = kNone;  // the slot's resident probe, evicted by this load
+    };
+    // The next load, or nothing: every wanted probe is resident, the bound is reached (readAhead()
+    // then names the probes the next frames will load), no slot can be freed, or the hysteresis keeps
+    // the residents.
+    std::optional<Load> next();
+    void loaded(const Load& load);   // the probe is in its slot
+    void skipped(const Load& load);  // its bytes could not be read: passed over this frame
+    std::span<const std::uint32_t> readAhead() const { return readAhead_; }
+    void endFrame() { ++frame_; }
+
+private:
+    void finish() { cursor_ = wanted_.size(); }
+
+    std::size_t probeBytes_, uploadBound_;
+    std::vector<std::uint32_t> slot_;      // per probe id
+    std::vector<std::uint8_t> live_;       // per probe id
+    std::vector<std::int64_t> lastUsed_;   // per probe id
+    std::vector<std::uint32_t> demand_;    // per probe id, of frame demandFrame_
+    std::vector<std::int64_t> loadedAt_;   // per probe id: frame of its last load
+    std::vector<std::uint32_t> owner_;     // per slot
+    std::int64_t demandFrame_ = -1, frame_ = 0;
+    std::size_t resident_ = 0, loads_ = 0, evictions_ = 0;
+    // The frame being planned.
+    std::vector<std::uint32_t> wanted_, victims_, readAhead_;
+    bool unbounded_ = false, victimsMade_ = false;
+    std::size_t cursor_ = 0, nextFree_ = 0, frameLoads_ = 0;
+};
+
+}  // namespace cubeao
