@@ -2,7 +2,8 @@
 # project outside the tree.
 #   cmake -DBUILD=<cubeao build> -DSOURCE=<cubeao source> -DCUBEAO=<cubeao binary> -DWORK=<scratch dir>
 #         -DCXX=<C++ compiler> -P tests/install_consumer.cmake
-# 1. docs/INTEGRATION.md embeds examples/consumer/main.cpp verbatim (drift check);
+# 1. docs/INTEGRATION.md embeds examples/consumer/main.cpp verbatim (drift check), which includes one cubeao
+#    header, cubeao/runtime/runtime.h;
 # 2. `cmake --install BUILD --prefix WORK/prefix`; the installed headers include no third-party type
 #    header they must not (CGAL, OpenImageIO, Embree, TBB, OpenMesh, assimp) and no cubeao header that
 #    is not installed;
@@ -50,12 +51,19 @@ if(NOT block STREQUAL example)
                       "  ${WORK}/INTEGRATION.md.cpp\n  ${SOURCE}/examples/consumer/main.cpp")
 endif()
 
+# The example includes one cubeao header, the run-time's umbrella (issue 32: an engine needs no other).
+string(REGEX MATCHALL "#include \"cubeao/[^\"]+\"" cubeaoIncludes "${example}")
+if(NOT cubeaoIncludes STREQUAL "#include \"cubeao/runtime/runtime.h\"")
+  message(FATAL_ERROR "examples/consumer/main.cpp includes ${cubeaoIncludes}; an engine needs only "
+                      "\"cubeao/runtime/runtime.h\" (add what it lacks there)")
+endif()
+
 # ---- 2. install
 file(REMOVE_RECURSE "${WORK}")
 set(prefix "${WORK}/prefix")
 run("cmake --install" ${CMAKE_COMMAND} --install "${BUILD}" --prefix "${prefix}")
 foreach(file lib/cmake/cubeao/cubeao-config.cmake lib/pkgconfig/cubeao-runtime.pc lib/libcubeao_runtime.a
-             include/cubeao/runtime/frame_pipeline.h share/cubeao/shaders/common/camera.h
+             include/cubeao/runtime/frame_pipeline.h include/cubeao/runtime/runtime.h share/cubeao/shaders/common/camera.h
              share/cubeao/shaders/runtime/project.comp)
   if(NOT EXISTS "${prefix}/${file}")
     message(FATAL_ERROR "not installed: ${prefix}/${file}")

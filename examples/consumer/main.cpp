@@ -20,14 +20,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "cubeao/cache/cache_file.h"
-#include "cubeao/core/camera.h"
-#include "cubeao/gl/context.h"
-#include "cubeao/gl/shader.h"
-#include "cubeao/runtime/camera_view.h"
-#include "cubeao/runtime/composite.h"
-#include "cubeao/runtime/frame_pipeline.h"
-#include "cubeao/runtime/probe_projection.h"
+#include "cubeao/runtime/runtime.h"  // the one cubeao header an engine needs
 
 namespace {
 
