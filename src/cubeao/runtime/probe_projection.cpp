@@ -79,7 +79,7 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
                                          std::span<const glm::vec3> meshPositions,
                                          std::span<const std::uint32_t> meshIndices,
                                          const ProbeProjectionSettings& settings, std::size_t expectedProbes)
-    : source_(cache, params), settings_(settings) {
+    : source_(cache, params), settings_(settings), ranking_(settings.lookaheadFrames) {
     res_ = int(params.res);
     depthRes_ = int(params.depthRes);
 
@@ -245,79 +245,8 @@ void ProbeProjectionPass::removeProbe(std::uint32_t id) {
     cellsChanged_ = true;
 }
 
-// The probes to keep resident, most wanted first: those the pixels of the newest reported frame used
-// or had to pass over, by how many sampled pixels did; then the candidates of the cells around the
-// camera ranked by the distance of their cell from the eye (×2 out of view within two cells, ×4
-// farther) or, if less, 1.25× the distance from where the eye will be `lookaheadFrames` from now,
-// times 1 + their rank in the cell. The box of cells grows until it lists as many probes as there are
-// slots. With room for every probe: all of them, nearest first (the order they stream in); nothing
-// once every live probe is resident.
-std::vector<std::uint32_t> ProbeProjectionPass::wantedProbes(const CameraView& view) {
-    const glm::mat4 worldFromView = view.worldFromView();
-    const glm::vec3 eye(worldFromView[3]);
-    if (haveEye_) motion_ = 0.5f * motion_ + 0.5f * (eye - lastEye_);
-    lastEye_ = eye, haveEye_ = true;
-    const glm::vec3 ahead = eye + motion_ * settings_.lookaheadFrames;
-    if (residency_->stats().resident == grid_->liveProbes()) return {};  // nothing left to load
-    const std::size_t n = source_.size();
-    const float inf = std::numeric_limits<float>::infinity();
-    score_.assign(n, inf);
-    std::vector<std::uint32_t> listed;
-    const auto list = [&](std::uint32_t id, float s) {
-        if (score_[id] == inf) listed.push_back(id);
-        score_[id] = std::min(score_[id], s);
-    };
-    if (residency_->slots() >= grid_->liveProbes()) {
-        for (std::uint32_t id = 0; id < n; ++id)
-            if (source_.isLive(id)) list(id, glm::length(source_.position(id) - eye));
-    } else {
-        const glm::ivec3 dims = grid_->dims();
-        const float cell = grid_->cellSize();
-        const glm::ivec3 centre = kernel::candidateCellOf(eye, grid_->origin(), cell, dims);
-        const int maxRadius = std::max({dims.x, dims.y, dims.z});
-        // The view frustum widened by a cell's half-diagonal: what the camera can see of a cell.
-        const float tanY = view.tanHalfFovY, tanX = view.tanHalfFovY * view.aspect(), margin = 0.87f * cell;
-        const auto visible = [&](const glm::vec3& at) {
-            const glm::vec3 v(view.viewFromWorld * glm::vec4(at, 1.0f));
-            const float depth = -v.z;
-            if (depth < -margin) return false;
-            const float d = std::max(depth, 0.0f);
-            return std::fabs(v.x) <= d * tanX + margin * (1.0f + tanX) && std::fabs(v.y) <= d * tanY + margin * (1.0f + tanY);
-        };
-        for (int r = 1;; r *= 2) {
-            const glm::ivec3 lo = glm::max(centre - r, glm::ivec3(0)), hi = glm::min(centre + r, dims - 1);
-            for (int z = lo.z; z <= hi.z; ++z)
-                for (int y = lo.y; y <= hi.y; ++y)
-                    for (int x = lo.x; x <= hi.x; ++x) {
-                        const std::size_t c = grid_->cellIndex({x, y, z});
-                        const glm::vec3 at = grid_->cellCentre(c);
-                        // Cells in view by their distance; around the eye (a turn of the head away)
-                        // and where the eye is heading at a premium.
-                        float s = glm::length(at - eye);
-                        if (!visible(at)) s = s < 2.0f * cell ? s * 2.0f : s * 4.0f;
-                        s = std::min(s, 1.25f * glm::length(at - ahead));
-                        // A pixel blends two candidates: the first ones of a farther cell before the
-                        // last ones of a near cell.
-                        int k = 0;
-                        for (std::uint32_t id : grid_->cellCandidates(c)) list(id, s * (1.0f + float(k++)));
-                    }
-            if (listed.size() >= residency_->slots() || r >= maxRadius) break;
-        }
-    }
-    // What the pixels asked for comes first, by how many asked; the rest by place.
-    if (residency_->slots() < grid_->liveProbes())
-        for (std::uint32_t id = 0; id < n; ++id)
-            if (residency_->demand(id) > 0 && score_[id] == inf) listed.push_back(id);
-    std::sort(listed.begin(), listed.end(), [&](std::uint32_t a, std::uint32_t b) {
-        const std::uint32_t da = residency_->demand(a), db = residency_->demand(b);
-        if (da != db) return da > db;
-        return score_[a] != score_[b] ? score_[a] < score_[b] : a < b;
-    });
-    return listed;
-}
-
 void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) {
-    residency_->update(source_, wantedProbes(view), unbounded_);
+    residency_->update(source_, ranking_.wanted(view, *grid_, residency_->planner()), unbounded_);
     unbounded_ = false;
     // A damaged probe is left out, as if it had been removed: the walk goes on without it.
     for (const ProbeResidency::Damaged& d : residency_->takeDamaged()) {

@@ -24,6 +24,7 @@
 #include "cubeao/runtime/ao_pass.h"
 #include "cubeao/runtime/nearest_lists.h"
 #include "cubeao/runtime/probe_grid.h"
+#include "cubeao/runtime/probe_ranking.h"
 #include "cubeao/runtime/probe_residency.h"
 #include "cubeao/runtime/projection.h"
 
@@ -120,7 +121,6 @@ private:
     ProbeProjectionPass(const CacheReader* cache, const CacheParams& params, std::span<const glm::vec3> positions,
                         std::span<const std::uint32_t> indices, const ProbeProjectionSettings& settings,
                         std::size_t expectedProbes);
-    std::vector<std::uint32_t> wantedProbes(const CameraView& view);
     std::size_t ownGpuBytes() const;  // the candidate grid and the counters: what the residency does not hold
     void updateResidentLists();  // the second list over the pool's probes, when the pool changed
     void countResidentCandidates();  // residentCounts_, when the pool or the cells changed
@@ -154,9 +154,7 @@ private:
     void collectShares();
     double pixels_ = 0.0;
     bool unbounded_ = true;
-    bool haveEye_ = false;
-    glm::vec3 lastEye_{0.0f}, motion_{0.0f};  // motion: smoothed eye displacement per frame
-    std::vector<float> score_;  // scratch of wantedProbes, per id
+    ProbeRanking ranking_;  // what each frame wants resident
 };
 
 }  // namespace cubeao

@@ -144,6 +144,7 @@ public:
     GLuint tableBuffer() const { return table_.id(); }  // kernel::ProbeEntry per probe id
     GLuint distanceTexture() const { return distance_.id(); }
     const ResidencyStats& stats() const { return stats_; }
+    const ResidencyPlanner& planner() const { return planner_; }  // slots, residents, the pixels' demand
     // What GL says the residency's textures and buffers hold (sizes queried from the driver): the
     // check of stats().gpuBytes, for tests.
     std::size_t allocatedGpuBytes() const;
