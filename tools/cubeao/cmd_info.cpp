@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "cubeao/bake/bake_settings.h"
 #include "cubeao/cache/cache_file.h"
+#include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
 #include "cubeao/bake/probe_set.h"
 #include "cubeao/core/sampling.h"
@@ -28,7 +29,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct InfoArgs {
-    std::string target, probes, camera;
+    std::string target, probes, camera, writeObj;
     int res = 512;
     bool verify = false, json = false;
 };
@@ -114,9 +115,32 @@ nlohmann::json probeCheck(const Scene& s, const InfoArgs& a) {
             {"error_terms", errorTermsJson(placement::errorTerms(ps, positions))}};
 }
 
+// `info SCENE --write-obj FILE`: the triangles as cubeao loaded and repaired them, in file coordinates,
+// with their vertex normals: what placement and the bake see, for another tool (e.g. an IFC's
+// triangles as OBJ) or to edit (tools/bench_place_default.sh reverses its faces).
+void writeObj(const Scene& s, const std::string& path) {
+    std::string text = "# " + s.source + ", as cubeao loaded it (cubeao info --write-obj)\n";
+    // Local positions are floats: 9 digits give them back exactly; a re-centred scene's file
+    // coordinates are doubles.
+    const char* format = s.recentred() ? "v %.17g %.17g %.17g\n" : "v %.9g %.9g %.9g\n";
+    char line[128];
+    for (const glm::vec3& p : s.positions) {
+        const glm::dvec3 f = s.toFile(p);
+        text.append(line, std::size_t(std::snprintf(line, sizeof line, format, f.x, f.y, f.z)));
+    }
+    for (const glm::vec3& n : s.normals)
+        text.append(line, std::size_t(std::snprintf(line, sizeof line, "vn %.9g %.9g %.9g\n", n.x, n.y, n.z)));
+    for (std::size_t t = 0; t < s.indices.size(); t += 3) {
+        const std::uint32_t a = s.indices[t] + 1, b = s.indices[t + 1] + 1, c = s.indices[t + 2] + 1;
+        text.append(line, std::size_t(std::snprintf(line, sizeof line, "f %u//%u %u//%u %u//%u\n", a, a, b, b, c, c)));
+    }
+    writeFileDurably(path, text, "OBJ");
+}
+
 void sceneInfo(const InfoArgs& a) {
     if (a.verify) throw UsageError("--verify checks a cache's checksums; " + a.target + " is a scene");
     const Scene s = loadScene(a.target);
+    if (!a.writeObj.empty()) writeObj(s, a.writeObj);
     // File coordinates, as the model file and camera paths have them (the scene itself is local).
     const auto& b = s.bounds;
     const glm::dvec3 lo = s.toFile(b.min), hi = s.toFile(b.max);
@@ -210,9 +234,12 @@ void addInfo(CLI::App& app) {
     cmd->add_option("--camera", a->camera, "Scene with --probes: the walk the prediction is for (default: free space)");
     cmd->add_option("--res", a->res, "Scene with --probes: the bake's face size the prediction assumes")
         ->capture_default_str();
+    cmd->add_option("--write-obj", a->writeObj,
+                    "Scene: write its triangles as loaded and repaired (file coordinates, vertex normals) to this OBJ");
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
     cmd->callback([a] {
         if (isCache(a->target) && !a->probes.empty()) throw UsageError("--probes checks a probe set against a scene");
+        if (isCache(a->target) && !a->writeObj.empty()) throw UsageError("--write-obj writes a scene's triangles");
         isCache(a->target) ? cacheInfo(*a) : sceneInfo(*a);
     });
 }
