@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Issue 31's figures for the default placement on the shared walks: `place` as a user runs it (with the
-# walk, and without it for a building nobody has walked yet), and on Sibenik with every face reversed
+# walk, and without it for a building nobody has walked yet), and on each model with every face reversed
 # and with a random half reversed, each baked traced at 512² (64 rays, CPU), rendered along the whole
 # walk and compared with the reference tools/calibrate_error.sh traced (run that first: its reference
 # and its path sets are reused here). A reversed model is compared with the original's reference: the
@@ -88,10 +88,16 @@ PY
         n=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['probes'])" "$out/live.place.json")
         run "voting-$n" "$scene" "$out" --camera "$walk" --budget "$n"
     fi
-    if [ "$which" = sibenik ] && [ -n "${REVERSED-1}" ]; then
+    if [ -n "${REVERSED-1}" ]; then
+        # A model that is not an OBJ (FZK-Haus is IFC): its triangles as cubeao loads them, then reversed.
+        src=$scene
+        if [ "${scene##*.}" != obj ]; then
+            "$bin" info "$scene" --write-obj "$out/$which.obj" > /dev/null
+            src=$out/$which.obj
+        fi
         for mode in all half; do
-            reversed "$scene" "$out/sibenik-$mode.obj" "$mode"
-            run "reversed-$mode" "$out/sibenik-$mode.obj" "$out" --camera "$walk"
+            reversed "$src" "$out/$which-$mode.obj" "$mode"
+            run "reversed-$mode" "$out/$which-$mode.obj" "$out" --camera "$walk"
         done
     fi
     if [ -n "${NO_WALK-1}" ]; then run no-walk "$scene" "$out"; fi
