@@ -35,14 +35,12 @@ inline BakeSettings bakeSettings(Estimator estimator, int res, float radius, int
 // Bakes `probes` (probe i gets index i) on the CPU into the cache `path`, as `cubeao bake` does.
 inline void bakeCache(const Scene& scene, std::span<const glm::vec3> probes, const BakeSettings& s,
                       const std::string& path) {
-    std::vector<ProbeSpec> specs;
-    for (const glm::vec3& p : probes) specs.push_back({p});
-    BakeCacheWriter cache(path, cacheParamsFor(s, scene.hash), specs);
+    BakeCacheWriter cache(path, cacheParamsFor(s, scene.hash), probes);
     BakeSettings cpu = s;
     cpu.device = BakeDevice::Cpu;
     ProbeBaker baker(scene, cpu);
     BakeJob job;
-    job.probes = specs;
+    job.probes = probes;
     job.progressLabel.clear();
     bakeProbes(baker, job, cache);
     cache.finish();

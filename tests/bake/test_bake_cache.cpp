@@ -192,12 +192,12 @@ TEST_F(BakeEncodeGl, GpuAndCpuBakesStoreTheSameProbeWithinTolerance) {
 // The loop every caller shares: a shard's probes less those the sink holds, in index order, each
 // stored as its baker encoded it (the same bytes as bakeProbeCpu's), with --verify per probe.
 TEST(BakeDriver, BakesTheShardLessTheSinkAndVerifies) {
-    std::vector<ProbeSpec> probes;
-    for (int i = 0; i < 7; ++i) probes.push_back({glm::vec3(1.0f + 0.8f * float(i), 1.4f, 2.5f)});
+    std::vector<glm::vec3> probes;
+    for (int i = 0; i < 7; ++i) probes.push_back(glm::vec3(1.0f + 0.8f * float(i), 1.4f, 2.5f));
     BakeSettings s = bakeSettings(Estimator::Traced, 8, 1.0f, 8);
     s.device = BakeDevice::Cpu;
     MemoryProbeSink sink;
-    sink.add({3, probes[3].position, 0.0f, {}, {}});  // already there: skipped
+    sink.add({3, probes[3], 0.0f, {}, {}});  // already there: skipped
     ProbeBaker baker(boxRoom(), s);
     BakeJob job;
     job.probes = probes;
@@ -220,7 +220,7 @@ TEST(BakeDriver, BakesTheShardLessTheSinkAndVerifies) {
         EXPECT_EQ(rec.aoConfidence, direct.aoConfidence) << rec.index;
         EXPECT_EQ(rec.depth, direct.depth) << rec.index;
         EXPECT_EQ(rec.maxDistance, direct.maxDistance) << rec.index;
-        EXPECT_EQ(rec.position, probes[rec.index].position);
+        EXPECT_EQ(rec.position, probes[rec.index]);
     }
     ASSERT_EQ(r.probes.size(), 2u);
     EXPECT_EQ(r.verifySpp, 32);
@@ -242,14 +242,14 @@ CacheParams smallParams() {
     return p;
 }
 
-std::vector<ProbeSpec> probeSet(int n) {
-    std::vector<ProbeSpec> probes;
-    for (int i = 0; i < n; ++i) probes.push_back({glm::vec3(float(i), 1.0f, 2.0f)});
+std::vector<glm::vec3> probeSet(int n) {
+    std::vector<glm::vec3> probes;
+    for (int i = 0; i < n; ++i) probes.push_back(glm::vec3(float(i), 1.0f, 2.0f));
     return probes;
 }
 
-ProbeRecord record(const CacheParams& p, const std::vector<ProbeSpec>& probes, std::uint32_t index) {
-    return {index, probes[index].position, 1.0f, std::vector<std::uint8_t>(aoSectionSize(p), std::uint8_t(index)),
+ProbeRecord record(const CacheParams& p, const std::vector<glm::vec3>& probes, std::uint32_t index) {
+    return {index, probes[index], 1.0f, std::vector<std::uint8_t>(aoSectionSize(p), std::uint8_t(index)),
             std::vector<std::uint8_t>(depthSectionSize(p), 1)};
 }
 
@@ -372,7 +372,7 @@ TEST(BakeCacheWriter, RefusesWhatIsNotTheSameBake) {
                 contains(msg, "choose another --out or delete the file"))
         << msg;
     auto moved = probes;
-    moved[1].position.x += 0.5f;
+    moved[1].x += 0.5f;
     msg = errorMessage([&] { BakeCacheWriter w(path, p, moved); });
     EXPECT_TRUE(contains(msg, "holds probe index 1 at (1, 1, 2), the probe set puts it at (1.5, 1, 2)")) << msg;
     msg = errorMessage([&] { BakeCacheWriter w(path, p, probeSet(1)); });

@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "cubeao/bake/probe_set.h"
+#include "cubeao/placement/probe_set.h"
 #include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
 #include "test_util.h"

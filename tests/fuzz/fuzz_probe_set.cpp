@@ -1,7 +1,7 @@
-// probes.json (src/cubeao/bake/probe_set.h): cubeao::Error or finite probes, never a crash.
+// probes.json (src/cubeao/placement/probe_set.h): cubeao::Error or finite probes, never a crash.
 #include <cmath>
 
-#include "cubeao/bake/probe_set.h"
+#include "cubeao/placement/probe_set.h"
 #include "cubeao/core/error.h"
 #include "fuzz_util.h"
 

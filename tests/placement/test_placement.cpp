@@ -13,7 +13,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
-#include "cubeao/bake/probe_set.h"
+#include "cubeao/placement/probe_set.h"
 #include "cubeao/core/camera.h"
 #include "cubeao/core/error.h"
 #include "cubeao/placement/coverage.h"

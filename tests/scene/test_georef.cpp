@@ -17,7 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_run.h"
-#include "cubeao/bake/probe_set.h"
+#include "cubeao/placement/probe_set.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/camera_path.h"

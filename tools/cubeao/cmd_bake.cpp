@@ -19,7 +19,7 @@
 #include "cubeao/bake/bake_driver.h"
 #include "cubeao/bake/bake_images.h"
 #include "cubeao/bake/gpu_bake.h"
-#include "cubeao/bake/probe_set.h"
+#include "cubeao/placement/probe_set.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/context.h"
 #include "cubeao/scene/import.h"
@@ -169,7 +169,7 @@ void checkRanges(const BakeArgs& a) {
 void run(const BakeArgs& a) {
     checkRanges(a);
     const Scene scene = loadScene(a.scene);
-    const std::vector<ProbeSpec> probes = readProbeSet(a.probes, scene.origin);
+    const std::vector<glm::vec3> probes = positionsOf(readProbeSet(a.probes, scene.origin));
     const BakeSettings settings = settingsFrom(a, scene);
     const BakeShard shard = parseBakeShard(a.shard);
     ProbeBakerOptions options;

@@ -31,9 +31,9 @@ struct BenchArgs {
 };
 
 // Probes where a person walks: camera positions spread evenly along the scene's path.
-std::vector<ProbeSpec> probePositions(const Scene& scene, const std::string& camera, int count) {
+std::vector<glm::vec3> probePositions(const Scene& scene, const std::string& camera, int count) {
     const CameraPath path = resolveCameraPath(camera, scene);
-    std::vector<ProbeSpec> out;
+    std::vector<glm::vec3> out;
     for (int i = 0; i < count; ++i)
         out.push_back({path.frames[std::size_t(i) * path.frames.size() / std::size_t(count)].eye});
     return out;
@@ -55,7 +55,7 @@ nlohmann::json runJson(const BakeStats& stats) {
 nlohmann::json benchScene(const BenchArgs& a, const std::string& spec, const std::string& camera,
                           const std::optional<gl::HeadlessContext>& context) {
     const Scene scene = loadScene(spec);
-    const std::vector<ProbeSpec> probes = probePositions(scene, camera, a.probes);
+    const std::vector<glm::vec3> probes = probePositions(scene, camera, a.probes);
     nlohmann::json runs = nlohmann::json::array(), gbufferModes = nlohmann::json::object();
     for (const std::string& device : a.devices) {
         if (device == "gpu" && !context) continue;
@@ -78,7 +78,7 @@ nlohmann::json benchScene(const BenchArgs& a, const std::string& spec, const std
                 for (const auto& [name, mode] : {std::pair{"layered", GBufferMode::Layered}, std::pair{"six_pass", GBufferMode::SixPass}}) {
                     baker.setGBufferMode(mode);
                     std::vector<double> ms;
-                    for (const ProbeSpec& p : probes) ms.push_back(baker.bake(p.position, 0).timings.gbufferMs);
+                    for (const glm::vec3& p : probes) ms.push_back(baker.bake(p, 0).timings.gbufferMs);
                     gbufferModes[name] = median(ms);
                 }
             }

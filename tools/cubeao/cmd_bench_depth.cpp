@@ -16,7 +16,7 @@
 #include "commands.h"
 #include "cubeao/bake/bake.h"
 #include "cubeao/core/cube.h"
-#include "cubeao/bake/probe_set.h"
+#include "cubeao/placement/probe_set.h"
 #include "cubeao/cache/depth_cube.h"
 #include "cubeao/core/error.h"
 #include "cubeao/scene/builtin.h"

@@ -148,8 +148,7 @@ SweepProbes bakeSweepProbes(const RenderBenchArgs& a, const Scene& scene, const 
     ProbeBaker baker(scene, s.settings);
     baker.prepare();
     const float r = s.settings.ao.radius;
-    std::vector<ProbeSpec> probes;
-    for (const glm::vec3& p : sweepPositions(baker.embree(), path, 10.0f * r, 0.25f * r, count)) probes.push_back({p});
+    const std::vector<glm::vec3> probes = sweepPositions(baker.embree(), path, 10.0f * r, 0.25f * r, count);
     spdlog::info("bench render: baking {} sweep probes at {}² (CPU, traced, {} rays per texel)", count, a.res, a.spp);
     const auto start = std::chrono::steady_clock::now();
     BakeJob job;

@@ -15,7 +15,7 @@
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
-#include "cubeao/bake/probe_set.h"
+#include "cubeao/placement/probe_set.h"
 #include "cubeao/core/sampling.h"
 #include "cubeao/placement/placement.h"
 #include "cubeao/reference/embree_scene.h"

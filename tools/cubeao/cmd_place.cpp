@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "commands.h"
-#include "cubeao/bake/probe_set.h"
+#include "cubeao/placement/probe_set.h"
 #include "cubeao/core/error.h"
 #include "cubeao/core/progress.h"
 #include "cubeao/gl/context.h"

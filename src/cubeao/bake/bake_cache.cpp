@@ -40,7 +40,7 @@ namespace {
 // The probe indices of the cache `file` (the output or one of its parts), after checking that it is
 // the same bake: parameters and scene hash, and every index at the position the probe set gives it.
 std::vector<std::uint32_t> sameBakeIndices(const fs::path& file, const CacheParams& params,
-                                           std::span<const ProbeSpec> probes) {
+                                           std::span<const glm::vec3> probes) {
     std::unique_ptr<CacheReader> cache;
     try {
         cache = std::make_unique<CacheReader>(file);
@@ -57,9 +57,9 @@ std::vector<std::uint32_t> sameBakeIndices(const fs::path& file, const CachePara
     for (std::size_t i = 0; i < cache->probeCount(); ++i) {
         const std::uint32_t index = cache->index(i);
         const glm::vec3 cached = cache->position(i);
-        if (index >= probes.size() || probes[index].position != cached)
+        if (index >= probes.size() || probes[index] != cached)
             throw Error(file.string() + ": holds probe index " + std::to_string(index) + " at " + vecText(cached) +
-                        (index < probes.size() ? ", the probe set puts it at " + vecText(probes[index].position)
+                        (index < probes.size() ? ", the probe set puts it at " + vecText(probes[index])
                                                : ", the probe set has " + std::to_string(probes.size()) + " probes") +
                         ": the probe set changed; " + kStartOver);
         indices.push_back(index);
@@ -101,7 +101,7 @@ fs::path BakeCacheWriter::partPath(const fs::path& path, std::size_t n) {
     return fs::path(path.string() + suffix);
 }
 
-BakeCacheWriter::BakeCacheWriter(fs::path path, const CacheParams& params, std::span<const ProbeSpec> probes,
+BakeCacheWriter::BakeCacheWriter(fs::path path, const CacheParams& params, std::span<const glm::vec3> probes,
                                  Options options)
     : path_(std::move(path)), params_(params), options_(options) {
     std::error_code ec;
@@ -119,7 +119,7 @@ BakeCacheWriter::BakeCacheWriter(fs::path path, const CacheParams& params, std::
 
 // Part files of an earlier run: numbered "PATH.part-NNNNNN" beside the output (their temporary files
 // have other names and are never taken for parts).
-void BakeCacheWriter::adoptParts(std::span<const ProbeSpec> probes, const std::set<std::uint32_t>& inOutput) {
+void BakeCacheWriter::adoptParts(std::span<const glm::vec3> probes, const std::set<std::uint32_t>& inOutput) {
     const fs::path dir = path_.has_parent_path() ? path_.parent_path() : fs::path(".");
     const std::string prefix = path_.filename().string() + ".part-";
     std::vector<std::pair<std::size_t, fs::path>> found;

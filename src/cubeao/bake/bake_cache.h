@@ -17,7 +17,8 @@
 #include <span>
 #include <vector>
 
-#include "cubeao/bake/probe_set.h"
+#include <glm/vec3.hpp>
+
 #include "cubeao/cache/cache_file.h"
 
 namespace cubeao {
@@ -57,9 +58,9 @@ public:
     // probes are all in `path` already (left by a finish() interrupted after its rename) are removed,
     // and so are the temporary files of a write that was killed before its rename (".NAME.tmp-PID-…",
     // PID no longer running). Nothing is written yet.
-    BakeCacheWriter(std::filesystem::path path, const CacheParams& params, std::span<const ProbeSpec> probes,
+    BakeCacheWriter(std::filesystem::path path, const CacheParams& params, std::span<const glm::vec3> probes,
                     Options options);
-    BakeCacheWriter(std::filesystem::path path, const CacheParams& params, std::span<const ProbeSpec> probes)
+    BakeCacheWriter(std::filesystem::path path, const CacheParams& params, std::span<const glm::vec3> probes)
         : BakeCacheWriter(std::move(path), params, probes, Options{}) {}
     // Writes what is pending as a part if finish() was not reached (an exception while baking), so
     // the probes already baked are kept for the next run; errors are swallowed (the first one is
@@ -89,7 +90,7 @@ public:
 
 private:
     void flush();
-    void adoptParts(std::span<const ProbeSpec> probes, const std::set<std::uint32_t>& inOutput);
+    void adoptParts(std::span<const glm::vec3> probes, const std::set<std::uint32_t>& inOutput);
 
     std::filesystem::path path_;
     CacheParams params_;

@@ -99,7 +99,7 @@ BakeResult bakeProbes(ProbeBaker& baker, const BakeJob& job, ProbeSink& sink) {
     std::optional<Progress> progress;
     if (!job.progressLabel.empty()) progress.emplace(job.progressLabel, todo.size(), "probes");
     for (const std::uint32_t index : todo) {
-        const glm::vec3 position = job.probes[index].position;
+        const glm::vec3 position = job.probes[index];
         const Clock::time_point start = Clock::now();
         BakedProbe probe = baker.bake(position, index);
         ProbeBakeResult p;

@@ -20,7 +20,6 @@
 #include "cubeao/bake/bake_cache.h"
 #include "cubeao/bake/bake_stats.h"
 #include "cubeao/bake/gpu_bake.h"
-#include "cubeao/bake/probe_set.h"
 #include "cubeao/scene/scene.h"
 
 namespace cubeao {
@@ -85,7 +84,7 @@ struct VerifySpec {
 };
 
 struct BakeJob {
-    std::span<const ProbeSpec> probes;  // probe i has index i
+    std::span<const glm::vec3> probes;  // probe i at probes[i] (probes.json, placement/probe_set.h)
     BakeShard shard;
     std::optional<VerifySpec> verify;
     // Called with every probe once baked, before its record goes to the sink (e.g. --dump). Makes

@@ -1,4 +1,4 @@
-#include "cubeao/bake/probe_set.h"
+#include "cubeao/placement/probe_set.h"
 
 #include <algorithm>
 #include <cmath>
@@ -64,6 +64,13 @@ void writeProbeSet(const std::filesystem::path& file, const std::vector<ProbeSpe
         j["probes"].push_back(std::move(probe));
     }
     writeFileDurably(file, j.dump(1) + "\n", "probe set");
+}
+
+std::vector<glm::vec3> positionsOf(const std::vector<ProbeSpec>& probes) {
+    std::vector<glm::vec3> positions;
+    positions.reserve(probes.size());
+    for (const ProbeSpec& p : probes) positions.push_back(p.position);
+    return positions;
 }
 
 std::vector<ProbeSpec> probesAlongPath(const CameraPath& path, std::size_t count) {

@@ -1,4 +1,4 @@
-// probes.json, the hand-over from placement to bake:
+// probes.json, the hand-over from placement to bake (placement owns it; the bake takes positions):
 //   {"version": 1, "probes": [{"pos": [x, y, z]}, ...]}   (the model file's coordinates)
 // Placement adds fields (method, parameters, its report, each probe's "gain": the predicted walk MAE
 // it removed after the ones before it, in the order chosen); readers ignore what they do not know.
@@ -31,6 +31,9 @@ void writeProbeSet(const std::filesystem::path& file, const std::vector<ProbeSpe
 // written as position + origin in double (as the floats they always were when the origin is 0).
 void writeProbeSet(const std::filesystem::path& file, const std::vector<ProbeSpec>& probes, const nlohmann::json& meta,
                    const glm::dvec3& origin = glm::dvec3(0.0));
+
+// The positions alone, in order (what BakeJob::probes and BakeCacheWriter take).
+std::vector<glm::vec3> positionsOf(const std::vector<ProbeSpec>& probes);
 
 // `cubeao place --method path`: min(count, frames) probes at the camera's eye, at the frame centres of
 // that many equal parts of the path (the first and last half a part in).
