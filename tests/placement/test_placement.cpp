@@ -20,6 +20,7 @@
 #include "cubeao/placement/coverage_feedback.h"
 #include "cubeao/placement/error_feedback.h"
 #include "cubeao/placement/free_space.h"
+#include "cubeao/placement/place.h"
 #include "cubeao/placement/placement.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/import.h"
@@ -275,6 +276,28 @@ CameraPath alcoveWalk() {
             path.frames.push_back({eye, {x, 1.4f, -1.0f}});
     }
     return path;
+}
+
+// place(): one entry to every method, by name; the path method is the walk's eyes spread evenly.
+TEST(Placement, PlaceByNameRunsTheMethodAndPathSpreadsTheWalksEyes) {
+    for (const Method m : {Method::Voting, Method::Live, Method::Coverage, Method::Grid, Method::Path})
+        EXPECT_EQ(methodFromName(methodName(m)), m);
+    EXPECT_THROW(methodFromName("nearest"), UsageError);
+    EXPECT_TRUE(needsWalk(Method::Path) && needsWalk(Method::Live) && needsWalk(Method::Coverage));
+    EXPECT_FALSE(needsWalk(Method::Voting) || needsWalk(Method::Grid));
+    EXPECT_THROW(checkMethodSettings(Method::Path, PlaceSettings{}), UsageError);  // path needs a budget
+
+    const Scene scene = alcoveRoom();
+    const CameraPath path = alcoveWalk();
+    PlaceSettings s = coarse(scene, 0.95);
+    s.budget = 3;
+    const PlacementScene ps(scene, s, &path);
+    const Placement along = place(Method::Path, ps, &path);
+    ASSERT_EQ(along.probes.size(), 3u);
+    const std::vector<ProbeSpec> eyes = probesAlongPath(path, 3);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(along.probes[i].position, eyes[i].position) << i;
+    EXPECT_EQ(place(Method::Voting, ps, &path).probes.size(), 3u);
+    EXPECT_THROW(place(Method::Live, ps, nullptr), Error);  // live walks a camera path
 }
 
 TEST(Placement, AlcoveSeenOnceVotingServesItPathCannot) {

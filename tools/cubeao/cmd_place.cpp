@@ -9,15 +9,11 @@
 #include <memory>
 
 #include "commands.h"
-#include "cubeao/placement/probe_set.h"
 #include "cubeao/core/error.h"
-#include "cubeao/core/progress.h"
 #include "cubeao/gl/context.h"
-#include "cubeao/placement/coverage_feedback.h"
-#include "cubeao/placement/error_feedback.h"
 #include "cubeao/placement/gpu_coverage.h"
-#include "cubeao/placement/live_placement.h"
-#include "cubeao/placement/placement.h"
+#include "cubeao/placement/place.h"
+#include "cubeao/placement/probe_set.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/import.h"
 #include "cubeao/scene/repair.h"
@@ -51,12 +47,10 @@ double peakMemoryMb() {
 }
 
 void run(PlaceArgs a) {
-    const std::string& m = a.method;
     if (a.device != "gpu" && a.device != "cpu") throw UsageError("--device \"" + a.device + "\": expected gpu or cpu");
-    if (m != "voting" && m != "coverage" && m != "grid" && m != "path" && m != "live")
-        throw UsageError("--method \"" + m + "\": expected voting, live, coverage, grid or path");
-    if (m == "path" && a.settings.budget == 0)
-        throw UsageError("--method path needs --budget N (how many probes to spread along the path)");
+    const placement::Method method = placement::methodFromName(a.method);
+    placement::checkMethodSettings(method, a.settings);
+    const std::string m = placement::methodName(method);
     a.settings.validate();
     // Before the work, not after it: a probes.json that cannot be written should cost nothing.
     const std::filesystem::path outDir = std::filesystem::path(a.out).parent_path();
@@ -67,48 +61,28 @@ void run(PlaceArgs a) {
     // The path and coverage methods walk a camera path; voting and grid use one when given (it decides
     // what is relevant) and free space otherwise. Built-in scenes bring their own path.
     std::unique_ptr<CameraPath> path;
-    const bool needsPath = m == "path" || m == "coverage" || m == "live";
-    if (needsPath || !a.camera.empty()) path = std::make_unique<CameraPath>(resolveCameraPath(a.camera, scene));
+    if (placement::needsWalk(method) || !a.camera.empty())
+        path = std::make_unique<CameraPath>(resolveCameraPath(a.camera, scene));
     // `live` weighs the walk one frame at a time, as the viewer does (given the walk, the viewer builds
     // the same scene: the walk bounds what is relevant and seeds free space).
     const placement::PlacementScene ps(scene, a.settings, path.get());
 
-    placement::Placement result;
-    if (m == "voting") {
-        // The greedy adds probes until the budget or the coverage target: the budget is the most there can be.
-        Progress progress("place voting", std::uint64_t(std::max(a.settings.budget, 0)), "probes");
-        result = placement::placeVoting(ps, &progress);
-    } else if (m == "grid") {
-        Progress progress("place grid", 0, "spacings");
-        result = placement::placeGrid(ps, &progress);
-    } else if (m == "live") {
-        Progress progress("place live", path->frames.size(), "frames");
-        result = placement::placeFeedback(ps, *path, placement::LiveSettings{}.countEveryFrames,
-                                          placement::FeedbackSettings{}.maxPerFrame, &progress);
-    } else if (m == "coverage") {
-        // The frame counts run on the GPU when a GL 4.5 context can be made (asynchronously: frames
-        // are handled as their counts come back); otherwise, or with --device cpu, every frame is
-        // traced with Embree. Same probes either way up to pixels at silhouettes.
-        std::optional<gl::HeadlessContext> context;
-        std::unique_ptr<placement::GpuCoverageCount> gpu;
-        if (a.device == "gpu") {
-            std::string whyNot;
-            context = gl::HeadlessContext::tryCreate(&whyNot);
-            if (context) {
-                context->makeCurrent();
-                gpu = std::make_unique<placement::GpuCoverageCount>(scene, path->nearPlane);
-            } else {
-                std::printf("place: no OpenGL 4.5 context (%s): counting frames on the CPU\n", whyNot.c_str());
-            }
+    // Coverage counts its frames on the GPU when a GL 4.5 context can be made (asynchronously: frames
+    // are handled as their counts come back); otherwise, or with --device cpu, every frame is traced
+    // with Embree. Same probes either way up to pixels at silhouettes.
+    std::optional<gl::HeadlessContext> context;
+    std::unique_ptr<placement::GpuCoverageCount> gpu;
+    if (method == placement::Method::Coverage && a.device == "gpu") {
+        std::string whyNot;
+        context = gl::HeadlessContext::tryCreate(&whyNot);
+        if (context) {
+            context->makeCurrent();
+            gpu = std::make_unique<placement::GpuCoverageCount>(scene, path->nearPlane);
+        } else {
+            std::printf("place: no OpenGL 4.5 context (%s): counting frames on the CPU\n", whyNot.c_str());
         }
-        Progress progress("place coverage", path->frames.size(), "frames");
-        result = placement::placeCoverage(ps, *path, {}, &progress, gpu.get());
-    } else {
-        std::vector<glm::vec3> positions;
-        for (const ProbeSpec& p : probesAlongPath(*path, std::size_t(a.settings.budget)))
-            positions.push_back(p.position);
-        result = placement::evaluate(ps, positions, "path");
     }
+    const placement::Placement result = placement::place(method, ps, path.get(), gpu.get());
     if (result.probes.empty() && result.stop == "target_error")
         throw Error("place --method voting: --target-error " + std::to_string(a.settings.targetError) +
                     " is met without any probe (screen space alone is predicted at " +
