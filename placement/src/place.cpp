@@ -14,7 +14,7 @@
 
 namespace cubeao::placement {
 
-Method methodFromName(const std::string& name) {
+Method parseMethod(const std::string& name) {
     for (const Method m : {Method::Voting, Method::Live, Method::Coverage, Method::Grid, Method::Path})
         if (name == methodName(m)) return m;
     throw UsageError("--method \"" + name + "\": expected voting, live, coverage, grid or path");

@@ -281,8 +281,8 @@ CameraPath alcoveWalk() {
 // place(): one entry to every method, by name; the path method is the walk's eyes spread evenly.
 TEST(Placement, PlaceByNameRunsTheMethodAndPathSpreadsTheWalksEyes) {
     for (const Method m : {Method::Voting, Method::Live, Method::Coverage, Method::Grid, Method::Path})
-        EXPECT_EQ(methodFromName(methodName(m)), m);
-    EXPECT_THROW(methodFromName("nearest"), UsageError);
+        EXPECT_EQ(parseMethod(methodName(m)), m);
+    EXPECT_THROW(parseMethod("nearest"), UsageError);
     EXPECT_TRUE(needsWalk(Method::Path) && needsWalk(Method::Live) && needsWalk(Method::Coverage));
     EXPECT_FALSE(needsWalk(Method::Voting) || needsWalk(Method::Grid));
     EXPECT_THROW(checkMethodSettings(Method::Path, PlaceSettings{}), UsageError);  // path needs a budget

@@ -48,7 +48,7 @@ double peakMemoryMb() {
 
 void run(PlaceArgs a) {
     if (a.device != "gpu" && a.device != "cpu") throw UsageError("--device \"" + a.device + "\": expected gpu or cpu");
-    const placement::Method method = placement::methodFromName(a.method);
+    const placement::Method method = placement::parseMethod(a.method);
     placement::checkMethodSettings(method, a.settings);
     const std::string m = placement::methodName(method);
     a.settings.validate();

@@ -142,21 +142,25 @@ ProbeResidency::ProbeResidency(const ProbeSource& source, std::size_t fixedBytes
     // alignment, at most 256 bytes)
     const std::size_t tableBytes =
         n * sizeof(kernel::ProbeEntry) + feedbackWords(n) * 4 + kFeedbackRing * (feedbackWords(n) * 4 + 256);
-    ResidencyBudget budget;
-    budget.budgetBytes = settings.gpuBudgetBytes;
-    budget.fixedBytes = fixedBytes + stagingBytes + tableBytes;
-    budget.probeBytes = perProbe;
-    budget.probes = settings.gpuBudgetBytes == 0 ? std::max(n, minSlots) : n;
-    budget.res = int(params_.res);
-    budget.maxTextureSize = glInteger(GL_MAX_TEXTURE_SIZE);
-    budget.maxLayers = glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS);
     unlimited_ = settings.gpuBudgetBytes == 0;
-    const ResidencyPool pool = residencyPool(budget);
+    const ResidencyPool pool = poolFor(settings.gpuBudgetBytes, fixedBytes + stagingBytes + tableBytes,
+                                       unlimited_ ? std::max(n, minSlots) : n);
     planner_ = ResidencyPlanner(pool.slots, perProbe, uploadBound_);
     allocateAtlas(pool);
     staging_->upload = gl::UploadRing(kStagingRegions, uploadBound_);
     syncProbes(source);
-    stats_.slots = slots();
+}
+
+ResidencyPool ProbeResidency::poolFor(std::size_t budgetBytes, std::size_t fixedBytes, std::size_t probes) const {
+    ResidencyBudget budget;
+    budget.budgetBytes = budgetBytes;
+    budget.fixedBytes = fixedBytes;
+    budget.probeBytes = probeGpuBytes(params_);
+    budget.probes = probes;
+    budget.res = int(params_.res);
+    budget.maxTextureSize = glInteger(GL_MAX_TEXTURE_SIZE);
+    budget.maxLayers = glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS);
+    return residencyPool(budget);
 }
 
 ProbeResidency::~ProbeResidency() = default;
@@ -179,13 +183,7 @@ void ProbeResidency::allocateAtlas(const ResidencyPool& pool) {
 void ProbeResidency::growAtlas(std::size_t slots, const ProbeSource& source) {
     const ProbeAtlasLayout old = atlas_;
     gl::Texture oldAo = std::move(ao_), oldDistance = std::move(distance_);
-    ResidencyBudget grown;  // no budget: exactly this many slots
-    grown.probeBytes = probeGpuBytes(params_);
-    grown.probes = std::max(slots, 2 * planner_.slots());
-    grown.res = int(params_.res);
-    grown.maxTextureSize = glInteger(GL_MAX_TEXTURE_SIZE);
-    grown.maxLayers = glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS);
-    const ResidencyPool pool = residencyPool(grown);
+    const ResidencyPool pool = poolFor(0, 0, std::max(slots, 2 * planner_.slots()));  // no budget: exactly these
     allocateAtlas(pool);
     planner_.growSlots(pool.slots);
     for (std::uint32_t s = 0; s < planner_.slots(); ++s) {
@@ -198,7 +196,6 @@ void ProbeResidency::growAtlas(std::size_t slots, const ProbeSource& source) {
         }
         writeEntry(planner_.ownerOf(s), source);  // same slot, another tile
     }
-    stats_.slots = planner_.slots();
 }
 
 void ProbeResidency::ensureCapacity(std::size_t probes) {
@@ -247,7 +244,6 @@ void ProbeResidency::syncProbes(const ProbeSource& source) {
     }
     for (std::uint32_t id = 0; id < planner_.probes(); ++id)  // removed probes leave their slots
         if (!source.isLive(id) && planner_.remove(id) != kNoSlot) writeEntry(id, source);
-    stats_.resident = planner_.resident();
 }
 
 void ProbeResidency::readFeedback() {
@@ -320,9 +316,15 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
     glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
     if (stats_.frameUploads > 0) source.releaseAll();  // the bytes are staged (or copied by the driver)
     if (!unbounded && stats_.frameUploads > 0) staging_->upload.fence(region);
-    stats_.loads = planner_.loads(), stats_.evictions = planner_.evictions(), stats_.resident = planner_.resident();
     if (frame() > 0 && !unbounded) stats_.maxFrameUploadBytes = std::max(stats_.maxFrameUploadBytes, stats_.frameUploadBytes);
     stats_.frameUploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+ResidencyStats ProbeResidency::stats() const {
+    ResidencyStats s = stats_;
+    s.slots = planner_.slots(), s.resident = planner_.resident();
+    s.loads = planner_.loads(), s.evictions = planner_.evictions();
+    return s;
 }
 
 std::vector<ProbeResidency::Damaged> ProbeResidency::takeDamaged() { return std::exchange(damaged_, {}); }

@@ -143,7 +143,7 @@ public:
     GLuint aoTexture() const { return ao_.id(); }
     GLuint tableBuffer() const { return table_.id(); }  // kernel::ProbeEntry per probe id
     GLuint distanceTexture() const { return distance_.id(); }
-    const ResidencyStats& stats() const { return stats_; }
+    ResidencyStats stats() const;  // the planner's counts and this class's upload figures
     const ResidencyPlanner& planner() const { return planner_; }  // slots, residents, the pixels' demand
     // What GL says the residency's textures and buffers hold (sizes queried from the driver): the
     // check of stats().gpuBytes, for tests.
@@ -152,6 +152,9 @@ public:
 private:
     struct Staging;
     void ensureCapacity(std::size_t probes);
+    // The pool for `probes` within `budgetBytes` beside `fixedBytes` (0: exactly that many slots), at
+    // this GL's texture limits.
+    ResidencyPool poolFor(std::size_t budgetBytes, std::size_t fixedBytes, std::size_t probes) const;
     void allocateAtlas(const ResidencyPool& pool);
     void growAtlas(std::size_t slots, const ProbeSource& source);
     void writeEntry(std::uint32_t id, const ProbeSource& source);
@@ -169,7 +172,7 @@ private:
     std::vector<Damaged> damaged_;
     std::uint64_t residentVersion_ = 0;
     std::size_t atlasBytes_ = 0;
-    ResidencyStats stats_;
+    ResidencyStats stats_;  // slots, resident, loads and evictions are the planner's (stats())
 };
 
 }  // namespace cubeao

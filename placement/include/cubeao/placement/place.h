@@ -17,7 +17,7 @@ class GpuCoverageCount;
 enum class Method { Voting, Live, Coverage, Grid, Path };
 
 // "voting", "live", "coverage", "grid", "path"; UsageError listing them for any other name.
-Method methodFromName(const std::string& name);
+Method parseMethod(const std::string& name);
 const char* methodName(Method method);
 // path, coverage and live walk a camera path; voting and grid use one when given.
 bool needsWalk(Method method);
