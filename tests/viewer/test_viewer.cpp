@@ -47,15 +47,17 @@ TEST(ViewerScript, ParsesEveryCommand) {
         "\n"
         "quit\n");
     ASSERT_EQ(c.size(), 13u);
-    EXPECT_EQ(c[0].verb, "size");
+    EXPECT_EQ(c[0].verb, Verb::Size);
     EXPECT_EQ(c[0].numbers, (std::vector<double>{160, 90}));
     EXPECT_EQ(c[1].line, 3);
     EXPECT_EQ(c[3].numbers, (std::vector<double>{0, 0, 1.5, 10}));
     EXPECT_EQ(c[4].numbers[0], -30.0);
-    EXPECT_EQ(c[5].verb, "mode");
+    EXPECT_EQ(c[5].verb, Verb::Mode);
     EXPECT_EQ(c[5].text, "ao");
     EXPECT_EQ(c[8].text, "out/a.png");
-    EXPECT_EQ(c[12].verb, "quit");
+    EXPECT_EQ(c[12].verb, Verb::Quit);
+    EXPECT_EQ(c[10].verb, Verb::Record);
+    EXPECT_STREQ(verbName(c[10].verb), "record");
 }
 
 // Each bad line is refused with the script's name, its line and what was expected.
@@ -76,6 +78,9 @@ TEST(ViewerScript, RefusesBadLinesNamingThem) {
     EXPECT_NE(message("play 5 2\n").find("end frame"), std::string::npos);
     EXPECT_NE(message("size 4 4\n").find("width"), std::string::npos);
     EXPECT_NE(message("live maybe\n").find("live on"), std::string::npos);
+    // Names are checked before the window opens, not when the line is reached.
+    EXPECT_NE(message("frames 9\nmode sepia\n").find("walk.txt:2: \"sepia\" is not a view mode"), std::string::npos);
+    EXPECT_NE(message("baseline ssao\n").find("walk.txt:1: baseline \"ssao\""), std::string::npos);
     EXPECT_NE(message("eye 1 inf 3\n").find("finite"), std::string::npos);
     EXPECT_EQ(message("# only a comment\n\n"), "accepted");
 }

@@ -4,8 +4,10 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
+#include "cubeao-view/view_modes.h"
 #include "cubeao/core/error.h"
 
 namespace cubeao::viewer {
@@ -13,34 +15,43 @@ namespace {
 
 // The argument shape of each verb: N = that many numbers, T = one word (file, mode, on/off).
 struct Grammar {
-    const char* verb;
+    Verb verb;
+    const char* name;
     int numbers;
     bool text;
     const char* usage;
 };
 
 constexpr Grammar kGrammar[] = {
-    {"frames", 1, false, "frames N"},
-    {"path", 1, false, "path F"},
-    {"play", 2, false, "play A B"},
-    {"eye", 3, false, "eye X Y Z"},
-    {"look", 3, false, "look X Y Z"},
-    {"move", 3, false, "move RIGHT UP FORWARD"},
-    {"turn", 2, false, "turn YAW_DEG PITCH_DEG"},
-    {"walk", 4, false, "walk RIGHT UP FORWARD FRAMES"},
-    {"size", 2, false, "size WIDTH HEIGHT"},
-    {"mode", 0, true, "mode NAME"},
-    {"baseline", 0, true, "baseline gtao|hbao|alchemy"},
-    {"live", 0, true, "live on|off"},
-    {"idle", 1, false, "idle N"},
-    {"settle", 1, false, "settle MAX_FRAMES"},
-    {"rebake", 1, false, "rebake MAX_FRAMES"},
-    {"screenshot", 0, true, "screenshot FILE.png|FILE.exr"},
-    {"screenshot-window", 0, true, "screenshot-window FILE.png"},
-    {"save", 0, true, "save FILE.cubeao"},
-    {"record", 0, true, "record FILE.json | record stop"},
-    {"quit", 0, false, "quit"},
+    {Verb::Frames, "frames", 1, false, "frames N"},
+    {Verb::Path, "path", 1, false, "path F"},
+    {Verb::Play, "play", 2, false, "play A B"},
+    {Verb::Eye, "eye", 3, false, "eye X Y Z"},
+    {Verb::Look, "look", 3, false, "look X Y Z"},
+    {Verb::Move, "move", 3, false, "move RIGHT UP FORWARD"},
+    {Verb::Turn, "turn", 2, false, "turn YAW_DEG PITCH_DEG"},
+    {Verb::Walk, "walk", 4, false, "walk RIGHT UP FORWARD FRAMES"},
+    {Verb::Size, "size", 2, false, "size WIDTH HEIGHT"},
+    {Verb::Mode, "mode", 0, true, "mode NAME"},
+    {Verb::Baseline, "baseline", 0, true, "baseline gtao|hbao|alchemy"},
+    {Verb::Live, "live", 0, true, "live on|off"},
+    {Verb::Idle, "idle", 1, false, "idle N"},
+    {Verb::Settle, "settle", 1, false, "settle MAX_FRAMES"},
+    {Verb::Rebake, "rebake", 1, false, "rebake MAX_FRAMES"},
+    {Verb::Screenshot, "screenshot", 0, true, "screenshot FILE.png|FILE.exr"},
+    {Verb::ScreenshotWindow, "screenshot-window", 0, true, "screenshot-window FILE.png"},
+    {Verb::Save, "save", 0, true, "save FILE.cubeao"},
+    {Verb::Record, "record", 0, true, "record FILE.json | record stop"},
+    {Verb::Quit, "quit", 0, false, "quit"},
 };
+
+// One row per verb in the enum's order, so verbName can index it.
+constexpr bool grammarInEnumOrder() {
+    for (std::size_t i = 0; i < std::size(kGrammar); ++i)
+        if (std::size_t(kGrammar[i].verb) != i) return false;
+    return std::size(kGrammar) == std::size_t(Verb::Quit) + 1;
+}
+static_assert(grammarInEnumOrder());
 
 // Counts: frames, play's ends and sizes are whole and not negative; a counting verb takes at most
 // a day of frames at 60 Hz, so a typo cannot hang a test for hours.
@@ -51,22 +62,40 @@ void checkNumbers(const ScriptCommand& c, const std::string& where) {
                              std::to_string(int(hi)) + "], got " + std::to_string(v));
     };
     constexpr double kMaxFrames = 24.0 * 3600.0 * 60.0;
-    if (c.verb == "frames" || c.verb == "idle" || c.verb == "settle" || c.verb == "rebake") whole(c.numbers[0], 0, kMaxFrames, "the frame count");
-    if (c.verb == "path") whole(c.numbers[0], 0, kMaxFrames, "the path frame");
-    if (c.verb == "play") {
-        whole(c.numbers[0], 0, kMaxFrames, "the first frame");
-        whole(c.numbers[1], c.numbers[0], kMaxFrames, "the end frame (after the first)");
-    }
-    if (c.verb == "walk") whole(c.numbers[3], 1, kMaxFrames, "the frame count");
-    if (c.verb == "size") {
-        whole(c.numbers[0], 8, 8192, "the width");
-        whole(c.numbers[1], 8, 8192, "the height");
+    switch (c.verb) {
+        case Verb::Frames:
+        case Verb::Idle:
+        case Verb::Settle:
+        case Verb::Rebake: whole(c.numbers[0], 0, kMaxFrames, "the frame count"); break;
+        case Verb::Path: whole(c.numbers[0], 0, kMaxFrames, "the path frame"); break;
+        case Verb::Play:
+            whole(c.numbers[0], 0, kMaxFrames, "the first frame");
+            whole(c.numbers[1], c.numbers[0], kMaxFrames, "the end frame (after the first)");
+            break;
+        case Verb::Walk: whole(c.numbers[3], 1, kMaxFrames, "the frame count"); break;
+        case Verb::Size:
+            whole(c.numbers[0], 8, 8192, "the width");
+            whole(c.numbers[1], 8, 8192, "the height");
+            break;
+        default: break;
     }
     for (double v : c.numbers)
         if (!std::isfinite(v)) throw UsageError(where + ": numbers must be finite");
 }
 
+// The word arguments that name something: live's on/off, a view mode, a baseline.
+void checkText(const ScriptCommand& c, const std::string& where) {
+    if (c.verb == Verb::Live && c.text != "on" && c.text != "off")
+        throw UsageError(where + ": expected \"live on\" or \"live off\"");
+    if (c.verb == Verb::Mode && !parseViewMode(c.text))
+        throw UsageError(where + ": \"" + c.text + "\" is not a view mode");
+    if (c.verb == Verb::Baseline && !isViewerBaseline(c.text))
+        throw UsageError(where + ": baseline \"" + c.text + "\": expected gtao, hbao or alchemy");
+}
+
 }  // namespace
+
+const char* verbName(Verb verb) { return kGrammar[int(verb)].name; }
 
 std::vector<ScriptCommand> parseScript(const std::string& text, const std::string& source) {
     std::vector<ScriptCommand> commands;
@@ -81,17 +110,18 @@ std::vector<ScriptCommand> parseScript(const std::string& text, const std::strin
         const std::string where = source + ":" + std::to_string(number);
         ScriptCommand c;
         c.line = number;
-        c.verb = w[0];
-        for (char& ch : c.verb) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+        std::string verb = w[0];
+        for (char& ch : verb) ch = char(std::tolower(static_cast<unsigned char>(ch)));
         const Grammar* g = nullptr;
         for (const Grammar& candidate : kGrammar)
-            if (c.verb == candidate.verb) g = &candidate;
+            if (verb == candidate.name) g = &candidate;
         if (!g) {
             std::string verbs;
-            for (const Grammar& candidate : kGrammar) verbs += std::string(verbs.empty() ? "" : ", ") + candidate.verb;
+            for (const Grammar& candidate : kGrammar) verbs += std::string(verbs.empty() ? "" : ", ") + candidate.name;
             throw UsageError(where + ": unknown command \"" + w[0] + "\"; expected one of " + verbs);
         }
         const std::size_t expected = std::size_t(g->numbers) + (g->text ? 1 : 0);
+        c.verb = g->verb;
         if (w.size() - 1 != expected) throw UsageError(where + ": expected \"" + g->usage + "\"");
         for (int i = 0; i < g->numbers; ++i) {
             const std::string& s = w[std::size_t(i) + 1];
@@ -102,9 +132,8 @@ std::vector<ScriptCommand> parseScript(const std::string& text, const std::strin
             c.numbers.push_back(v);
         }
         if (g->text) c.text = w.back();
-        if ((c.verb == "live") && c.text != "on" && c.text != "off")
-            throw UsageError(where + ": expected \"live on\" or \"live off\"");
         checkNumbers(c, where);
+        checkText(c, where);
         commands.push_back(std::move(c));
     }
     return commands;

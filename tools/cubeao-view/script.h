@@ -31,14 +31,21 @@
 
 namespace cubeao::viewer {
 
+enum class Verb {
+    Frames, Path, Play, Eye, Look, Move, Turn, Walk, Size, Mode, Baseline, Live, Idle, Settle, Rebake,
+    Screenshot, ScreenshotWindow, Save, Record, Quit
+};
+const char* verbName(Verb verb);  // as the script spells it
+
 struct ScriptCommand {
-    std::string verb;                  // as above, lower case
+    Verb verb = Verb::Quit;
     std::vector<double> numbers;       // numeric arguments
-    std::string text;                  // the file, mode or on/off argument
+    std::string text;                  // the file, mode, baseline or on/off argument (names already checked)
     int line = 0;                      // 1-based line in the script, for messages
 };
 
-// Every command of `text`; throws cubeao::UsageError naming `source`, the line and what was expected.
+// Every command of `text`; throws cubeao::UsageError naming `source`, the line and what was expected
+// (unknown verbs, argument counts, numbers out of range, unknown view modes and baselines).
 std::vector<ScriptCommand> parseScript(const std::string& text, const std::string& source = "script");
 std::vector<ScriptCommand> readScript(const std::filesystem::path& file);
 

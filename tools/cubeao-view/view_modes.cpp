@@ -43,6 +43,17 @@ std::optional<ViewMode> parseViewMode(std::string_view name) {
     return std::nullopt;
 }
 
+std::span<const char* const> viewerBaselines() {
+    static constexpr const char* kBaselines[] = {"gtao", "hbao", "alchemy"};
+    return kBaselines;
+}
+
+bool isViewerBaseline(std::string_view name) {
+    for (const char* b : viewerBaselines())
+        if (name == b) return true;
+    return false;
+}
+
 const char* viewModeLegend(ViewMode mode) {
     switch (mode) {
         case ViewMode::Shaded: return "the composite: diffuse light times AO";

@@ -26,6 +26,10 @@ const char* viewModeName(ViewMode mode);
 std::optional<ViewMode> parseViewMode(std::string_view name);
 // One line for the panel: what the colours mean.
 const char* viewModeLegend(ViewMode mode);
+// The screen-space baselines the baseline mode shows ("gtao", "hbao", "alchemy"; ssao_settings.h's
+// names), and whether `name` is one of them.
+std::span<const char* const> viewerBaselines();
+bool isViewerBaseline(std::string_view name);
 
 // The frame's textures (GL names, 0 = not available), all of the frame's size: single-level textures
 // (immutable storage) or otherwise complete ones; they are read with texelFetch, so their filters do

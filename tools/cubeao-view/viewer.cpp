@@ -24,8 +24,10 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "cubeao-view/panel.h"
 #include "cubeao-view/script.h"
 #include "cubeao-view/view_modes.h"
+#include "cubeao-view/viewer_state.h"
 #include "cubeao/bake/bake_settings.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/core/durable_file.h"
@@ -48,43 +50,6 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-
-// A free camera: eye, unit forward, the scene's up. Turning keeps forward off the up axis.
-struct FlyCamera {
-    glm::vec3 eye{0.0f}, forward{0.0f, 0.0f, -1.0f}, up{0.0f, 1.0f, 0.0f};
-    float fovYDeg = 60.0f, nearPlane = 0.05f;
-
-    glm::vec3 right() const { return glm::normalize(glm::cross(forward, up)); }
-    void turn(float yawDeg, float pitchDeg) {
-        glm::vec3 f = glm::angleAxis(glm::radians(yawDeg), up) * forward;
-        const glm::vec3 r = glm::normalize(glm::cross(f, up));
-        const glm::vec3 pitched = glm::angleAxis(glm::radians(pitchDeg), r) * f;
-        if (std::abs(glm::dot(glm::normalize(pitched), up)) < 0.995f) f = pitched;
-        forward = glm::normalize(f);
-    }
-    void lookAt(const glm::vec3& target) {
-        const glm::vec3 d = target - eye;
-        if (glm::length(d) > 0.0f && std::abs(glm::dot(glm::normalize(d), up)) < 0.9999f) forward = glm::normalize(d);
-    }
-    void move(const glm::vec3& rightUpForward) {
-        eye += right() * rightUpForward.x + up * rightUpForward.y + forward * rightUpForward.z;
-    }
-    // A one-frame camera path, so PinholeCamera builds the basis exactly as for a path frame.
-    CameraPath asPath() const {
-        CameraPath p;
-        p.up = up, p.fovYDeg = fovYDeg, p.nearPlane = nearPlane;
-        p.frames.push_back({eye, eye + forward});
-        return p;
-    }
-    PinholeCamera pinhole(int width, int height) const { return PinholeCamera(asPath(), 0, width, height); }
-    void setFrame(const CameraPath& path, std::size_t f) {
-        up = glm::normalize(path.up), fovYDeg = path.fovYDeg, nearPlane = path.nearPlane;
-        eye = path.frames[f].eye;
-        forward = glm::normalize(path.frames[f].target - eye);
-    }
-};
-
-const char* const kBaselines[] = {"gtao", "hbao", "alchemy"};
 
 gl::Texture texture2D(GLenum format, int width, int height) {
     gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
@@ -133,11 +98,16 @@ private:
     ProbeProjectionPass* probes() const;
     BakeSettings liveBake(Estimator estimator) const;
 
-    bool stepScript();  // false when the script has ended (quit)
+    // What a script command leaves the frame loop to do: run the next command at once, render a frame
+    // first, or quit.
+    enum class ScriptStep { Next, Render, Quit };
+    bool stepScript();    // false when the script has ended (quit)
+    bool continueSpan();  // a wait, walk or play spanning frames takes this frame
+    ScriptStep runCommand(const ScriptCommand& c);
     void handleInput(double dtSeconds);
     void renderFrame();
     void drawView(int x, int y, int width, int height);
-    void drawPanel();
+    void panel();  // draws the panel and carries out what was pressed on it
     void handleKeys();
     bool pressed(int key);  // went down since the last frame
     void viewScreenshot(const fs::path& file);
@@ -156,6 +126,7 @@ private:
     nlohmann::json summary() const;
 
     ViewerOptions o_;
+    ViewerState s_;
     Scene scene_;
     std::optional<CameraPath> path_;
     std::unique_ptr<CacheReader> cache_;
@@ -166,8 +137,6 @@ private:
     std::unique_ptr<FramePipeline> main_;  // probes (cache or live), or gtao without probes
     std::map<std::string, std::unique_ptr<FramePipeline>> baselines_;
     std::unique_ptr<ViewModes> modes_;
-    ViewMode mode_ = ViewMode::Shaded;
-    std::string baseline_ = "gtao";
 
     // Live placement: the placement scene is built on first use (Embree, free space: seconds).
     std::unique_ptr<placement::PlacementScene> placementScene_;
@@ -176,12 +145,7 @@ private:
     // Probes of the opened cache that live placement found damaged when adopting them, and left out
     // (the pass counts the ones it finds itself: ResidencyStats::damaged).
     std::size_t liveDamaged_ = 0;
-    bool liveOn_ = false;
 
-    FlyCamera camera_;
-    float speed_ = 1.0f;           // world units per second
-    std::optional<std::size_t> pathFrame_;  // the camera sits on this path frame
-    bool playing_ = false;
     std::uint32_t serial_ = 0;     // frames rendered
     int idleFrames_ = 0;           // frames without input
     glm::dvec2 cursor_{0.0};       // the mouse at the last frame
@@ -199,21 +163,15 @@ private:
     std::size_t playEnd_ = 0;
     bool quit_ = false;
 
-    // Recording.
-    std::optional<fs::path> recordFile_;
-    std::vector<CameraFrame> recorded_;
-
     // Reference frames for the difference mode.
     std::map<std::size_t, std::optional<Image>> references_;
     gl::Texture referenceTex_;
     std::optional<std::size_t> referenceTexFrame_;
 
-    // Figures for the panel.
+    // Figures for the panel and the --stats summary.
     double frameMs_ = 0.0, frameMsMean_ = 0.0;
     std::optional<PipelineTimings> timings_;
     ProbeProjectionPass::PixelShares shares_;
-    bool showPanel_ = true;
-    std::string status_;
     std::deque<double> frameTimes_;
     std::map<int, bool> keyWasDown_;
     // Per rendered frame, for --stats: wall ms, the live bake's ms, the script line being run.
@@ -226,6 +184,7 @@ private:
 };
 
 Viewer::Viewer(const ViewerOptions& o) : o_(o) {
+    s_.scale = o.scale;
     if (!(o.scale > 0.05f && o.scale <= 4.0f)) throw UsageError("--scale must lie in (0.05, 4]");
     if (o.width < 64 || o.height < 64 || o.width > 16384 || o.height > 16384)
         throw UsageError("--width/--height must lie in [64, 16384]");
@@ -237,7 +196,7 @@ Viewer::Viewer(const ViewerOptions& o) : o_(o) {
     cli::checkResidencyOptions(o.gpuBudgetMb, o.uploadMb);  // a negative MiB count would wrap to a huge budget
     const auto mode = parseViewMode(o.mode);
     if (!mode) throw UsageError("--mode \"" + o.mode + "\": not a view mode");
-    mode_ = *mode;
+    s_.mode = *mode;
     if (!o.script.empty()) script_ = readScript(o.script);
     loadInputs();
     std::string whyNot;
@@ -260,7 +219,7 @@ Viewer::Viewer(const ViewerOptions& o) : o_(o) {
 }
 
 Viewer::~Viewer() {
-    if (recordFile_) stopRecording();
+    if (s_.recordFile) stopRecording();
     live_.reset();
     baselines_.clear();
     main_.reset();
@@ -285,17 +244,17 @@ void Viewer::loadInputs() {
     ssao_ = resolveSsaoSettings(s, scene_.defaultRadius());
     composite_ = cli::compositeFor(scene_, 1.0f);
 
-    camera_.up = glm::normalize(scene_.up);
+    s_.camera.up = glm::normalize(scene_.up);
     if (path_ && !path_->frames.empty()) {
         setPathFrame(0);
     } else {
         // No path: stand at the middle of the bounds, at a third of its height, looking along x.
-        camera_.eye = scene_.bounds.center();
-        camera_.forward = glm::normalize(glm::cross(camera_.up, glm::vec3(0.0f, 0.0f, 1.0f)) +
+        s_.camera.eye = scene_.bounds.center();
+        s_.camera.forward = glm::normalize(glm::cross(s_.camera.up, glm::vec3(0.0f, 0.0f, 1.0f)) +
                                          glm::vec3(1e-3f, 0.0f, 0.0f));
-        camera_.nearPlane = 1e-3f * scene_.bounds.diagonal();
+        s_.camera.nearPlane = 1e-3f * scene_.bounds.diagonal();
     }
-    speed_ = 0.08f * scene_.bounds.diagonal();
+    s_.speed = 0.08f * scene_.bounds.diagonal();
 }
 
 void Viewer::buildPipelines() {
@@ -330,7 +289,7 @@ FramePipeline& Viewer::baselinePipeline(const std::string& name) {
     return *p;
 }
 
-FramePipeline& Viewer::activePipeline() { return mode_ == ViewMode::Baseline ? baselinePipeline(baseline_) : *main_; }
+FramePipeline& Viewer::activePipeline() { return s_.mode == ViewMode::Baseline ? baselinePipeline(s_.baseline) : *main_; }
 
 ProbeProjectionPass* Viewer::probes() const { return dynamic_cast<ProbeProjectionPass*>(&main_->method()); }
 
@@ -360,8 +319,8 @@ BakeSettings Viewer::liveBake(Estimator estimator) const {
 void Viewer::startLive() {
     ProbeProjectionPass* pass = probes();
     if (!pass) {
-        status_ = "live placement needs probes: start with --live (or a --cache)";
-        spdlog::warn("cubeao-view: {}", status_);
+        s_.status = "live placement needs probes: start with --live (or a --cache)";
+        spdlog::warn("cubeao-view: {}", s_.status);
         return;
     }
     if (!live_) {
@@ -374,12 +333,12 @@ void Viewer::startLive() {
         ps.texelsPerRadius = placement::PlaceSettings{}.texelsPerRadius * float(ps.res) / 512.0f;
         ps.target = o_.coverageTarget;
         // Where the person stands is free, whichever way the model's faces point (issue 31).
-        const glm::vec3 here = camera_.eye;
+        const glm::vec3 here = s_.camera.eye;
         placementScene_ = std::make_unique<placement::PlacementScene>(scene_, ps, path_ ? &*path_ : nullptr,
                                                                       std::span(&here, 1));
         placement::LiveSettings ls;
         ls.bakeMsPerFrame = o_.bakeMsPerFrame;
-        ls.nearPlane = camera_.nearPlane;
+        ls.nearPlane = s_.camera.nearPlane;
         if (path_) ls.farPlane = path_->farPlane;
         ls.objective = o_.liveObjective == "coverage" ? placement::LiveSettings::Objective::Coverage
                                                       : placement::LiveSettings::Objective::Error;
@@ -416,23 +375,23 @@ void Viewer::startLive() {
             spdlog::info("cubeao-view: live placement ready in {:.1f} s (predicted AO error of the walk so far)",
                          msSince(start) / 1000.0);
     }
-    liveOn_ = true;
+    s_.liveOn = true;
 }
 
 void Viewer::setLive(bool on) {
     if (on)
         startLive();
     else
-        liveOn_ = false;
+        s_.liveOn = false;
 }
 
 void Viewer::togglePlaying() {
-    if (!pathFrame_) setPathFrame(0);
-    playing_ = !playing_;
+    if (!s_.pathFrame) setPathFrame(0);
+    s_.playing = !s_.playing;
 }
 
 void Viewer::toggleRecording() {
-    if (recordFile_)
+    if (s_.recordFile)
         stopRecording();
     else
         startRecording("walk.json");
@@ -441,8 +400,8 @@ void Viewer::toggleRecording() {
 void Viewer::setPathFrame(std::size_t f) {
     if (!path_ || path_->frames.empty()) return;
     f = std::min(f, path_->frames.size() - 1);
-    camera_.setFrame(*path_, f);
-    pathFrame_ = f;
+    s_.camera.setFrame(*path_, f);
+    s_.pathFrame = f;
 }
 
 void Viewer::renderSize(int& w, int& h) const {
@@ -452,8 +411,8 @@ void Viewer::renderSize(int& w, int& h) const {
     }
     int fw = 0, fh = 0;
     window_->framebufferSize(fw, fh);
-    w = std::max(8, int(std::lround(float(fw) * o_.scale)));
-    h = std::max(8, int(std::lround(float(fh) * o_.scale)));
+    w = std::max(8, int(std::lround(float(fw) * s_.scale)));
+    h = std::max(8, int(std::lround(float(fh) * s_.scale)));
 }
 
 const Image* Viewer::referenceFor(std::size_t frame) {
@@ -476,6 +435,18 @@ const Image* Viewer::referenceFor(std::size_t frame) {
 
 // One script command per call, except waits, walks and plays, which span frames.
 bool Viewer::stepScript() {
+    if (continueSpan()) return true;
+    while (scriptPos_ < script_.size()) {
+        switch (runCommand(script_[scriptPos_++])) {
+            case ScriptStep::Next: continue;
+            case ScriptStep::Render: return true;
+            case ScriptStep::Quit: return false;
+        }
+    }
+    return false;  // the end of the script quits, as `quit` does
+}
+
+bool Viewer::continueSpan() {
     if (waitFrames_ > 0) {
         --waitFrames_;
         return true;
@@ -496,96 +467,82 @@ bool Viewer::stepScript() {
         rebakeLeft_ = 0;
     }
     if (walkStep_.w > 0.0f) {
-        camera_.move(glm::vec3(walkStep_));
-        pathFrame_.reset();
+        s_.camera.move(glm::vec3(walkStep_));
+        s_.pathFrame.reset();
         walkStep_.w -= 1.0f;
         return true;
     }
-    if (playing_ && pathFrame_ && *pathFrame_ + 1 < playEnd_) {
-        setPathFrame(*pathFrame_ + 1);
+    if (s_.playing && s_.pathFrame && *s_.pathFrame + 1 < playEnd_) {
+        setPathFrame(*s_.pathFrame + 1);
         return true;
     }
-    playing_ = false;
-    while (scriptPos_ < script_.size()) {
-        const ScriptCommand& c = script_[scriptPos_++];
-        const auto& n = c.numbers;
+    s_.playing = false;
+    return false;
+}
+
+// The command's arguments and names were checked when the script was read (script.h); what depends
+// on the inputs (a camera path, its length) is checked here.
+Viewer::ScriptStep Viewer::runCommand(const ScriptCommand& c) {
+    using enum ScriptStep;
+    const std::vector<double>& n = c.numbers;
+    const auto needPath = [&] {
         const std::string where = o_.script + ":" + std::to_string(c.line);
-        const auto needPath = [&] {
-            if (!path_) throw UsageError(where + ": \"" + c.verb + "\" needs --camera PATH.json");
-            if (std::size_t(n[0]) >= path_->frames.size())
-                throw UsageError(where + ": frame " + std::to_string(std::size_t(n[0])) + " is past the path's " +
-                                 std::to_string(path_->frames.size()) + " frames");
-        };
-        if (c.verb == "frames") {
-            if (n[0] < 1.0) continue;
+        if (!path_) throw UsageError(where + ": \"" + verbName(c.verb) + "\" needs --camera PATH.json");
+        if (std::size_t(n[0]) >= path_->frames.size())
+            throw UsageError(where + ": frame " + std::to_string(std::size_t(n[0])) + " is past the path's " +
+                             std::to_string(path_->frames.size()) + " frames");
+    };
+    const glm::vec3 v(n.size() >= 3 ? glm::vec3(n[0], n[1], n[2]) : glm::vec3(0.0f));
+    switch (c.verb) {
+        case Verb::Frames:
+            if (n[0] < 1.0) return Next;
             waitFrames_ = int(n[0]) - 1;
-            return true;
-        } else if (c.verb == "path") {
+            return Render;
+        case Verb::Path:
             needPath();
             setPathFrame(std::size_t(n[0]));
-            return true;
-        } else if (c.verb == "play") {
+            return Render;
+        case Verb::Play:
             needPath();
             setPathFrame(std::size_t(n[0]));
             playEnd_ = std::min<std::size_t>(std::size_t(n[1]), path_->frames.size());
-            playing_ = true;
-            return true;
-        } else if (c.verb == "eye") {
-            camera_.eye = scene_.toLocal(glm::dvec3(n[0], n[1], n[2]));  // scripts speak file coordinates
-            pathFrame_.reset();
-        } else if (c.verb == "look") {
-            camera_.lookAt(scene_.toLocal(glm::dvec3(n[0], n[1], n[2])));
-            pathFrame_.reset();
-        } else if (c.verb == "move") {
-            camera_.move(glm::vec3(n[0], n[1], n[2]));
-            pathFrame_.reset();
-        } else if (c.verb == "turn") {
-            camera_.turn(float(n[0]), float(n[1]));
-            pathFrame_.reset();
-        } else if (c.verb == "walk") {
-            walkStep_ = glm::vec4(glm::vec3(n[0], n[1], n[2]) / float(n[3]), float(n[3]) - 1.0f);
-            camera_.move(glm::vec3(walkStep_));
-            pathFrame_.reset();
-            return true;
-        } else if (c.verb == "size") {
-            fixedSize_ = true, fixedW_ = int(n[0]), fixedH_ = int(n[1]);
-        } else if (c.verb == "mode") {
-            const auto m = parseViewMode(c.text);
-            if (!m) throw UsageError(where + ": \"" + c.text + "\" is not a view mode");
-            mode_ = *m;
-        } else if (c.verb == "baseline") {
-            if (std::find(std::begin(kBaselines), std::end(kBaselines), c.text) == std::end(kBaselines))
-                throw UsageError(where + ": baseline \"" + c.text + "\": expected gtao, hbao or alchemy");
-            baseline_ = c.text;
-        } else if (c.verb == "live") {
-            setLive(c.text == "on");
-        } else if (c.verb == "idle") {
+            s_.playing = true;
+            return Render;
+        case Verb::Eye: s_.camera.eye = scene_.toLocal(glm::dvec3(n[0], n[1], n[2])); break;  // file coordinates
+        case Verb::Look: s_.camera.lookAt(scene_.toLocal(glm::dvec3(n[0], n[1], n[2]))); break;
+        case Verb::Move: s_.camera.move(v); break;
+        case Verb::Turn: s_.camera.turn(float(n[0]), float(n[1])); break;
+        case Verb::Walk:
+            walkStep_ = glm::vec4(v / float(n[3]), float(n[3]) - 1.0f);
+            s_.camera.move(glm::vec3(walkStep_));
+            s_.pathFrame.reset();
+            return Render;
+        case Verb::Size: fixedSize_ = true, fixedW_ = int(n[0]), fixedH_ = int(n[1]); return Next;
+        case Verb::Mode: s_.mode = *parseViewMode(c.text); return Next;
+        case Verb::Baseline: s_.baseline = c.text; return Next;
+        case Verb::Live: setLive(c.text == "on"); return Next;
+        case Verb::Idle:
             forcedIdle_ = int(n[0]);
             waitFrames_ = int(n[0]) - 1;
-            return true;
-        } else if (c.verb == "settle") {
-            settleLeft_ = int(n[0]);
-            return true;
-        } else if (c.verb == "rebake") {
+            return Render;
+        case Verb::Settle: settleLeft_ = int(n[0]); return Render;
+        case Verb::Rebake:
             rebakeLeft_ = int(n[0]);
             forcedIdle_ = 1;
-            return true;
-        } else if (c.verb == "screenshot") {
-            viewScreenshot(c.text);
-        } else if (c.verb == "screenshot-window") {
-            windowScreenshot(c.text);
-        } else if (c.verb == "save") {
-            save(c.text);
-        } else if (c.verb == "record") {
+            return Render;
+        case Verb::Screenshot: viewScreenshot(c.text); return Next;
+        case Verb::ScreenshotWindow: windowScreenshot(c.text); return Next;
+        case Verb::Save: save(c.text); return Next;
+        case Verb::Record:
             if (c.text == "stop")
                 stopRecording();
             else
                 startRecording(c.text);
-        } else if (c.verb == "quit") {
-            return false;
-        }
+            return Next;
+        case Verb::Quit: return Quit;
     }
-    return false;  // the end of the script quits, as `quit` does
+    s_.pathFrame.reset();  // eye, look, move, turn: the camera left the path
+    return Next;
 }
 
 void Viewer::handleInput(double dt) {
@@ -603,7 +560,7 @@ void Viewer::handleInput(double dt) {
         if (down(GLFW_KEY_Q)) d.y -= 1.0f;
         if (glm::length(d) > 0.0f) {
             const float fast = down(GLFW_KEY_LEFT_SHIFT) ? 4.0f : 1.0f;
-            camera_.move(glm::normalize(d) * speed_ * fast * float(dt));
+            s_.camera.move(glm::normalize(d) * s_.speed * fast * float(dt));
             moved = true;
         }
     }
@@ -612,14 +569,14 @@ void Viewer::handleInput(double dt) {
     const bool look = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
                       (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS && !io.WantCaptureMouse);
     if (look && dragging_ && (x != cursor_.x || y != cursor_.y)) {
-        camera_.turn(float(cursor_.x - x) * 0.15f, float(cursor_.y - y) * 0.15f);  // 0.15° a pixel
+        s_.camera.turn(float(cursor_.x - x) * 0.15f, float(cursor_.y - y) * 0.15f);  // 0.15° a pixel
         moved = true;
     }
     dragging_ = look;
     cursor_ = glm::dvec2(x, y);
     if (moved) {
-        pathFrame_.reset();
-        playing_ = false;
+        s_.pathFrame.reset();
+        s_.playing = false;
     }
     idleFrames_ = moved ? 0 : idleFrames_ + 1;
 }
@@ -628,19 +585,19 @@ void Viewer::renderFrame() {
     int w = 0, h = 0;
     renderSize(w, h);
     // The difference mode compares pixel by pixel: render at the reference's own size.
-    if (mode_ == ViewMode::ReferenceDiff && pathFrame_)
-        if (const Image* ref = referenceFor(*pathFrame_)) w = ref->width, h = ref->height;
-    const PinholeCamera pinhole = camera_.pinhole(w, h);
-    const CameraView view = CameraView::fromPinhole(pinhole, camera_.nearPlane);
-    const std::uint32_t frame = pathFrame_ ? std::uint32_t(*pathFrame_) : serial_;
+    if (s_.mode == ViewMode::ReferenceDiff && s_.pathFrame)
+        if (const Image* ref = referenceFor(*s_.pathFrame)) w = ref->width, h = ref->height;
+    const PinholeCamera pinhole = s_.camera.pinhole(w, h);
+    const CameraView view = CameraView::fromPinhole(pinhole, s_.camera.nearPlane);
+    const std::uint32_t frame = s_.pathFrame ? std::uint32_t(*s_.pathFrame) : serial_;
 
     ProbeProjectionPass* pass = probes();
     if (pass) {  // the probes' blur for this size: a resized window can cross the texel-size threshold
         const BlurSettings blur = probeBlurSettings(int(pass->source().params().res), h, pinhole.tanHalfFovY);
         if (blur.radius != main_->blur().settings().radius) main_->blur().setSettings(blur);
     }
-    if (pass && liveOn_ && live_) {
-        const bool idle = forcedIdle_ > 0 || (script_.empty() && idleFrames_ > 60 && !playing_);
+    if (pass && s_.liveOn && live_) {
+        const bool idle = forcedIdle_ > 0 || (script_.empty() && idleFrames_ > 60 && !s_.playing);
         live_->frame(pinhole, idle, *pass);
         // Say once, when it changes, why live placement cannot place (issue 31: never silently GTAO).
         const char* stalled = live_->stats().stalled;
@@ -648,17 +605,17 @@ void Viewer::renderFrame() {
         lastStalled_ = stalled;
     }
     if (forcedIdle_ > 0) --forcedIdle_;
-    const bool needsDiagnostics = mode_ == ViewMode::ProbeId || mode_ == ViewMode::Footprint ||
-                                  mode_ == ViewMode::Confidence || mode_ == ViewMode::Path;
+    const bool needsDiagnostics = s_.mode == ViewMode::ProbeId || s_.mode == ViewMode::Footprint ||
+                                  s_.mode == ViewMode::Confidence || s_.mode == ViewMode::Path;
     if (pass) pass->setDiagnostics(needsDiagnostics);
     FramePipeline& pipeline = activePipeline();
     pipeline.render(view, frame);
-    if (mode_ == ViewMode::Baseline) main_->render(view, frame);  // keeps streaming and live placement fed
+    if (s_.mode == ViewMode::Baseline) main_->render(view, frame);  // keeps streaming and live placement fed
     if (auto t = main_->latestTimings()) timings_ = t;
     // The pass's pixel shares of a frame or two back, polled (never waited for).
     if (pass)
         if (auto shares = pass->latestPixelShares()) shares_ = *shares;
-    if (recordFile_) recorded_.push_back({camera_.eye, camera_.eye + camera_.forward});
+    if (s_.recordFile) s_.recorded.push_back({s_.camera.eye, s_.camera.eye + s_.camera.forward});
     ++serial_;
 }
 
@@ -667,19 +624,19 @@ void Viewer::drawView(int x, int y, int width, int height) {
     ViewInputs in;
     in.shaded = pipeline.shadedTexture();
     in.ao = pipeline.aoTexture();
-    if (ProbeProjectionPass* pass = probes(); pass && mode_ != ViewMode::Baseline) {
+    if (ProbeProjectionPass* pass = probes(); pass && s_.mode != ViewMode::Baseline) {
         in.diagnostics = pass->diagnosticsTexture();
     }
-    if (mode_ == ViewMode::Baseline) in.baselineAo = pipeline.aoTexture();
+    if (s_.mode == ViewMode::Baseline) in.baselineAo = pipeline.aoTexture();
     in.footprintScale = ssao_.radius / 16.0f;
-    if (mode_ == ViewMode::ReferenceDiff && pathFrame_) {
-        if (const Image* ref = referenceFor(*pathFrame_); ref && ref->width == pipeline.width() &&
+    if (s_.mode == ViewMode::ReferenceDiff && s_.pathFrame) {
+        if (const Image* ref = referenceFor(*s_.pathFrame); ref && ref->width == pipeline.width() &&
                                                            ref->height == pipeline.height()) {
-            if (referenceTexFrame_ != *pathFrame_) {
+            if (referenceTexFrame_ != *s_.pathFrame) {
                 referenceTex_ = texture2D(GL_R32F, ref->width, ref->height);
                 glTextureSubImage2D(referenceTex_.id(), 0, 0, 0, ref->width, ref->height, GL_RED, GL_FLOAT,
                                     ref->pixels.data());
-                referenceTexFrame_ = *pathFrame_;
+                referenceTexFrame_ = *s_.pathFrame;
             }
             in.reference = referenceTex_.id();
         }
@@ -688,7 +645,7 @@ void Viewer::drawView(int x, int y, int width, int height) {
     const float aspect = float(pipeline.width()) / float(pipeline.height());
     int vw = width, vh = int(std::lround(float(width) / aspect));
     if (vh > height) vh = height, vw = int(std::lround(float(height) * aspect));
-    modes_->draw(mode_, in, x + (width - vw) / 2, y + (height - vh) / 2, vw, vh);
+    modes_->draw(s_.mode, in, x + (width - vw) / 2, y + (height - vh) / 2, vw, vh);
 }
 
 void Viewer::viewScreenshot(const fs::path& file) {
@@ -722,42 +679,42 @@ void Viewer::windowScreenshot(const fs::path& file) {
 void Viewer::save(const fs::path& file) {
     if (live_) {
         const std::size_t n = live_->save(file);
-        status_ = "saved " + std::to_string(n) + " probes to " + file.string();
+        s_.status = "saved " + std::to_string(n) + " probes to " + file.string();
     } else if (cache_) {
         fs::copy_file(o_.cache, file, fs::copy_options::overwrite_existing);
-        status_ = "copied the opened cache to " + file.string();
+        s_.status = "copied the opened cache to " + file.string();
     } else {
-        status_ = "nothing to save: no probes (turn live placement on)";
+        s_.status = "nothing to save: no probes (turn live placement on)";
     }
-    spdlog::info("cubeao-view: {}", status_);
+    spdlog::info("cubeao-view: {}", s_.status);
 }
 
 void Viewer::startRecording(const fs::path& file) {
-    recordFile_ = file;
-    recorded_.clear();
-    status_ = "recording to " + file.string();
+    s_.recordFile = file;
+    s_.recorded.clear();
+    s_.status = "recording to " + file.string();
 }
 
 void Viewer::stopRecording() {
-    if (!recordFile_) return;
+    if (!s_.recordFile) return;
     CameraPath p;
     p.scene = scene_.source;
     p.origin = scene_.origin;  // the frames are local: written back in file coordinates
-    p.up = camera_.up, p.fovYDeg = camera_.fovYDeg, p.nearPlane = camera_.nearPlane;
+    p.up = s_.camera.up, p.fovYDeg = s_.camera.fovYDeg, p.nearPlane = s_.camera.nearPlane;
     if (path_) p.width = path_->width, p.height = path_->height, p.farPlane = path_->farPlane;
-    p.frames = recorded_;
-    if (recordFile_->has_parent_path()) fs::create_directories(recordFile_->parent_path());
-    writeCameraPath(*recordFile_, p);
-    status_ = "recorded " + std::to_string(recorded_.size()) + " frames to " + recordFile_->string();
-    spdlog::info("cubeao-view: {}", status_);
-    recordFile_.reset();
+    p.frames = s_.recorded;
+    if (s_.recordFile->has_parent_path()) fs::create_directories(s_.recordFile->parent_path());
+    writeCameraPath(*s_.recordFile, p);
+    s_.status = "recorded " + std::to_string(s_.recorded.size()) + " frames to " + s_.recordFile->string();
+    spdlog::info("cubeao-view: {}", s_.status);
+    s_.recordFile.reset();
 }
 
 nlohmann::json Viewer::summary() const {
     nlohmann::json j = {{"scene", scene_.source},
                         {"frames", serial_},
                         {"frame_ms_mean", frameMsMean_},
-                        {"mode", viewModeName(mode_)}};
+                        {"mode", viewModeName(s_.mode)}};
     if (ProbeProjectionPass* pass = probes()) {
         j["probes"] = pass->grid().liveProbes();
         j["resident"] = pass->residency().stats().resident;
@@ -808,137 +765,51 @@ void Viewer::handleKeys() {
     if (ImGui::GetIO().WantCaptureKeyboard) return;
     const std::span<const ViewMode> all = allViewModes();
     for (std::size_t i = 0; i < all.size() && i < 9; ++i)
-        if (pressed(GLFW_KEY_1 + int(i))) mode_ = all[i];
-    if (pressed(GLFW_KEY_TAB)) showPanel_ = !showPanel_;
+        if (pressed(GLFW_KEY_1 + int(i))) s_.mode = all[i];
+    if (pressed(GLFW_KEY_TAB)) s_.showPanel = !s_.showPanel;
     if (pressed(GLFW_KEY_ESCAPE)) quit_ = true;
     if (pressed(GLFW_KEY_P) && path_) togglePlaying();
-    if (pressed(GLFW_KEY_RIGHT_BRACKET) && path_) setPathFrame(pathFrame_ ? *pathFrame_ + 1 : 0);
-    if (pressed(GLFW_KEY_LEFT_BRACKET) && path_) setPathFrame(pathFrame_ && *pathFrame_ > 0 ? *pathFrame_ - 1 : 0);
+    if (pressed(GLFW_KEY_RIGHT_BRACKET) && path_) setPathFrame(s_.pathFrame ? *s_.pathFrame + 1 : 0);
+    if (pressed(GLFW_KEY_LEFT_BRACKET) && path_) setPathFrame(s_.pathFrame && *s_.pathFrame > 0 ? *s_.pathFrame - 1 : 0);
     if (pressed(GLFW_KEY_R)) toggleRecording();
     if (pressed(GLFW_KEY_F12)) {
         char name[64];
         std::snprintf(name, sizeof name, "cubeao-view-%03d.png", screenshots_++);
         viewScreenshot(name);
-        status_ = std::string("screenshot ") + name;
+        s_.status = std::string("screenshot ") + name;
     }
     const bool ctrl = glfwGetKey(window_->window(), GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS ||
                       glfwGetKey(window_->window(), GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS;
     if (pressed(GLFW_KEY_S) && ctrl) save(defaultSavePath());
-    if (pressed(GLFW_KEY_L)) setLive(!liveOn_);
+    if (pressed(GLFW_KEY_L)) setLive(!s_.liveOn);
     const float scroll = ImGui::GetIO().MouseWheel;
-    if (scroll != 0.0f && !ImGui::GetIO().WantCaptureMouse) speed_ *= std::pow(1.25f, scroll);
+    if (scroll != 0.0f && !ImGui::GetIO().WantCaptureMouse) s_.speed *= std::pow(1.25f, scroll);
 }
 
-// A titled separator (ImGui 1.86 has no SeparatorText).
-void section(const char* title) {
-    ImGui::Spacing();
-    ImGui::Separator();
-    ImGui::TextColored(ImVec4(0.55f, 0.75f, 1.0f, 1.0f), "%s", title);
-}
-
-void Viewer::drawPanel() {
-    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowBgAlpha(0.82f);
-    ImGui::Begin("cubeao", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
-    ImGui::PushItemWidth(170.0f);
-    ImGui::TextDisabled("%s  (%zu triangles)", fs::path(scene_.source).filename().c_str(), scene_.triangleCount());
-
-    // View mode, with its legend.
-    const std::span<const ViewMode> all = allViewModes();
-    if (ImGui::BeginCombo("view", viewModeName(mode_))) {
-        for (std::size_t i = 0; i < all.size(); ++i) {
-            char label[64];
-            std::snprintf(label, sizeof label, "%zu  %s", i + 1, viewModeName(all[i]));
-            if (ImGui::Selectable(label, all[i] == mode_)) mode_ = all[i];
-        }
-        ImGui::EndCombo();
-    }
-    if (mode_ == ViewMode::Baseline && ImGui::BeginCombo("baseline", baseline_.c_str())) {
-        for (const char* b : kBaselines)
-            if (ImGui::Selectable(b, baseline_ == b)) baseline_ = b;
-        ImGui::EndCombo();
-    }
-    ImGui::PushTextWrapPos(340.0f);
-    ImGui::TextDisabled("%s", viewModeLegend(mode_));
-    ImGui::PopTextWrapPos();
-
-    // Timing.
-    section("frame");
+void Viewer::panel() {
+    PanelFigures f;
+    f.sceneName = scene_.source;
+    f.triangles = scene_.triangleCount();
     const FramePipeline& pipeline = activePipeline();
-    ImGui::Text("%.1f ms (%.0f fps) · %d × %d px", frameMs_, frameMs_ > 0.0 ? 1000.0 / frameMs_ : 0.0,
-                pipeline.width(), pipeline.height());
-    if (!frameTimes_.empty()) {
-        std::vector<float> t(frameTimes_.begin(), frameTimes_.end());
-        ImGui::PlotLines("##frames", t.data(), int(t.size()), 0, "frame ms", 0.0f,
-                         std::max(33.0f, *std::max_element(t.begin(), t.end())), ImVec2(250, 36));
-    }
-    if (!fixedSize_) ImGui::SliderFloat("render scale", &o_.scale, 0.1f, 1.0f, "%.2f");
-    if (timings_) {
-        const PassTimings& p = timings_->passes;
-        ImGui::Text("GPU ms  gbuf %.1f · ao %.1f · blur %.1f · comp %.1f", p.gbuffer, p.ao, p.blur, p.composite);
-        if (!main_->timesAreExecution())
-            ImGui::TextDisabled("(software GL: these do not measure execution)");
-    }
-
-    // Probes.
-    if (ProbeProjectionPass* pass = probes()) {
-        section("probes");
-        const ResidencyStats& r = pass->residency().stats();
-        ImGui::Text("%zu resident of %zu · %zu slots · %.1f MB", r.resident, pass->grid().liveProbes(), r.slots,
-                    double(pass->gpuBytes()) / 1048576.0);
-        ImGui::Text("uploads %zu this frame (%.1f KB, %.2f ms)", r.frameUploads, double(r.frameUploadBytes) / 1024.0,
-                    r.frameUploadMs);
-        const double probesShare = std::max(0.0, shares_.geometry - shares_.uncovered - shares_.fallbackProbe);
-        ImGui::Text("pixels  probes %.1f %% · other probe %.1f %% · GTAO %.1f %%", 100.0 * probesShare,
-                    100.0 * shares_.fallbackProbe, 100.0 * shares_.uncovered);
-        if (const std::size_t damaged = r.damaged + liveDamaged_; damaged > 0)
-            ImGui::TextColored(ImVec4(1.0f, 0.6f, 0.2f, 1.0f), "%zu damaged probe%s left out (checksum; see the log)",
-                               damaged, damaged == 1 ? "" : "s");
-    }
-
-    // Live placement.
-    section("live placement");
-    bool on = liveOn_;
-    if (ImGui::Checkbox("place probes while walking (L)", &on)) setLive(on);
-    if (live_) {
-        const placement::LivePlacement::Stats s = live_->stats();
-        if (o_.liveObjective == "coverage") {
-            ImGui::ProgressBar(float(s.coverage), ImVec2(170, 0));
-            ImGui::SameLine();
-            ImGui::Text("coverage (target %.0f %%)", 100.0 * o_.coverageTarget);
-        } else {
-            ImGui::Text("predicted AO error of the walk so far: %.4f", s.predictedMae);
-        }
-        ImGui::Text("placed %zu · baked %zu · re-baked %zu · queued %zu", s.placed, s.baked, s.rebaked, s.queued);
-        ImGui::Text("bake %.1f ms/frame (budget %.1f)", s.bakeMsMean, o_.bakeMsPerFrame);
-        if (s.stalled) ImGui::TextColored(ImVec4(1.0f, 0.6f, 0.2f, 1.0f), "cannot place: %s", s.stalled);
-    }
-    if (ImGui::Button("save (Ctrl+S)")) save(defaultSavePath());
-
-    // Camera.
-    section("camera");
-    ImGui::Text("eye %.2f %.2f %.2f · %.2f/s", camera_.eye.x, camera_.eye.y, camera_.eye.z, speed_);
-    if (path_) {
-        int f = pathFrame_ ? int(*pathFrame_) : -1;
-        if (ImGui::SliderInt("path frame", &f, 0, int(path_->frames.size()) - 1)) setPathFrame(std::size_t(std::max(f, 0)));
-        if (ImGui::Button(playing_ ? "pause (P)" : "play (P)")) togglePlaying();
-        ImGui::SameLine();
-    }
-    if (ImGui::Button(recordFile_ ? "stop recording (R)" : "record (R)")) toggleRecording();
-    if (recordFile_) {
-        ImGui::SameLine();
-        ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "REC %zu", recorded_.size());
-    }
-    ImGui::TextDisabled("WASD QE move · right drag look · wheel speed");
-    ImGui::TextDisabled("1-8 modes · F12 shot · Tab panel · Esc quit");
-    if (!status_.empty()) {
-        ImGui::PushTextWrapPos(340.0f);
-        ImGui::TextWrapped("%s", status_.c_str());
-        ImGui::PopTextWrapPos();
-    }
-    ImGui::PopItemWidth();
-    ImGui::End();
+    f.width = pipeline.width(), f.height = pipeline.height();
+    f.fixedSize = fixedSize_;
+    f.frameMs = frameMs_;
+    f.recentFrameMs = &frameTimes_;
+    if (timings_) f.gpu = timings_->passes;
+    f.gpuTimesAreExecution = main_->timesAreExecution();
+    f.probes = probes();
+    f.shares = shares_;
+    if (f.probes) f.damaged = f.probes->residency().stats().damaged + liveDamaged_;
+    f.live = live_.get();
+    f.coverageObjective = o_.liveObjective == "coverage";
+    f.coverageTarget = o_.coverageTarget, f.bakeMsBudget = o_.bakeMsPerFrame;
+    f.pathFrames = path_ ? path_->frames.size() : 0;
+    const PanelRequests r = drawPanel(s_, f);
+    if (r.live) setLive(*r.live);
+    if (r.pathFrame) setPathFrame(*r.pathFrame);
+    if (r.togglePlaying) togglePlaying();
+    if (r.toggleRecording) toggleRecording();
+    if (r.save) save(defaultSavePath());
 }
 
 int Viewer::run() {
@@ -956,11 +827,11 @@ int Viewer::run() {
         ImGui::NewFrame();
         handleKeys();
         handleInput(std::min(dt, 0.25));
-        if (playing_ && !scripted && path_ && pathFrame_) {
-            if (*pathFrame_ + 1 < path_->frames.size())
-                setPathFrame(*pathFrame_ + 1);
+        if (s_.playing && !scripted && path_ && s_.pathFrame) {
+            if (*s_.pathFrame + 1 < path_->frames.size())
+                setPathFrame(*s_.pathFrame + 1);
             else
-                playing_ = false;
+                s_.playing = false;
         }
         renderFrame();
 
@@ -971,7 +842,7 @@ int Viewer::run() {
         glClearColor(0.08f, 0.09f, 0.11f, 1.0f);
         glClear(GL_COLOR_BUFFER_BIT);
         drawView(0, 0, fw, fh);
-        if (showPanel_) drawPanel();
+        if (s_.showPanel) panel();
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         // Script commands run after the frame is drawn, so screenshots show what was just rendered;
