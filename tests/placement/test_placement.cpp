@@ -22,6 +22,7 @@
 #include "cubeao/placement/free_space.h"
 #include "cubeao/placement/place.h"
 #include "cubeao/placement/placement.h"
+#include "cubeao/placement/walk_scatter.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/import.h"
 #include "cubeao/scene/scene.h"
@@ -298,6 +299,32 @@ TEST(Placement, PlaceByNameRunsTheMethodAndPathSpreadsTheWalksEyes) {
     for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(along.probes[i].position, eyes[i].position) << i;
     EXPECT_EQ(place(Method::Voting, ps, &path).probes.size(), 3u);
     EXPECT_THROW(place(Method::Live, ps, nullptr), Error);  // live walks a camera path
+}
+
+// The benchmarks' scatter: `count` points, each within reach of the eye polyline (here a bent walk,
+// reach 0.5, so a point off the polyline's segments by more than that is wrong), the same every run.
+TEST(Placement, ScatterAroundWalkStaysWithinReachOfTheWalk) {
+    CameraPath walk;
+    for (const glm::vec3 eye : {glm::vec3(0, 1, 0), glm::vec3(4, 1, 0), glm::vec3(4, 1, 3)})
+        walk.frames.push_back({eye, eye + glm::vec3(0, 0, -1)});
+    const auto reach = [](const glm::vec3&, const glm::vec3&) { return 0.5f; };
+    const std::vector<glm::vec3> points = scatterAroundWalk(walk, 200, reach);
+    ASSERT_EQ(points.size(), 200u);
+    float farthest = 0.0f, spanX = 0.0f, spanZ = 0.0f;
+    for (const glm::vec3& p : points) {
+        float nearest = 1e9f;
+        for (std::size_t i = 0; i + 1 < walk.frames.size(); ++i) {
+            const glm::vec3 a = walk.frames[i].eye, b = walk.frames[i + 1].eye;
+            const float t = std::clamp(glm::dot(p - a, b - a) / glm::dot(b - a, b - a), 0.0f, 1.0f);
+            nearest = std::min(nearest, glm::distance(p, a + t * (b - a)));
+        }
+        farthest = std::max(farthest, nearest);
+        spanX = std::max(spanX, p.x), spanZ = std::max(spanZ, p.z);
+    }
+    EXPECT_LE(farthest, 0.5f + 1e-4f);
+    EXPECT_GT(spanX, 3.5f);  // both legs of the walk are visited
+    EXPECT_GT(spanZ, 2.5f);
+    EXPECT_EQ(scatterAroundWalk(walk, 200, reach), points);
 }
 
 TEST(Placement, AlcoveSeenOnceVotingServesItPathCannot) {

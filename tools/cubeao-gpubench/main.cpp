@@ -37,13 +37,16 @@
 
 #include "cubeao/cache/synthetic_probes.h"
 #include "cubeao/core/error.h"
+#include "cubeao/core/scratch_dir.h"
 #include "cubeao/gl/context.h"
 #include "cubeao/gl/sync.h"
 #include "cubeao/gl/timer.h"
 #include "cubeao/runtime/frame_pipeline.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scenes/builtin_scenes.h"
-#include "render_setup.h"
+#include "cubeao/placement/walk_scatter.h"
+#include "cubeao/ssao/ao_methods.h"
+#include "run_json.h"
 
 namespace cubeao::gpubench {
 namespace {
@@ -104,7 +107,7 @@ struct Measured {
 // `frames` timed frames along the walk after `warmup` untimed ones.
 Measured measure(const Args& a, const Scene& scene, const CameraPath& path, std::unique_ptr<AoPass> pass,
                  const BlurSettings& blur, bool pipelineClock) {
-    const CompositeSettings composite = cli::compositeFor(scene, 1.0f);
+    const CompositeSettings composite = previewComposite(scene.up, 1.0f);
     Measured m;
     const auto frameOf = [&](int k) { return std::size_t(k) % path.frames.size(); };
     // The pass's counters are a read-back: every frame for the measuring renderer, which stalls
@@ -121,7 +124,7 @@ Measured measure(const Args& a, const Scene& scene, const CameraPath& path, std:
         FrameRenderer renderer(scene.positions, scene.indices, std::move(pass), blur, composite);
         for (int k = 0; k < a.warmup + a.frames; ++k) {
             const std::size_t f = frameOf(k);
-            const RenderedFrame frame = renderer.render(cli::frameView(path, f, a.width, a.height), std::uint32_t(f));
+            const RenderedFrame frame = renderer.render(CameraView::fromPath(path, f, a.width, a.height), std::uint32_t(f));
             if (k < a.warmup) continue;
             m.timings.push_back(frame.timings);
             sample(renderer.method());
@@ -154,7 +157,7 @@ Measured measure(const Args& a, const Scene& scene, const CameraPath& path, std:
         }
         collect();
         const auto start = std::chrono::steady_clock::now();
-        pipeline.render(cli::frameView(path, f, a.width, a.height), std::uint32_t(f));
+        pipeline.render(CameraView::fromPath(path, f, a.width, a.height), std::uint32_t(f));
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         if (k >= a.warmup) m.issueMs.push_back(ms);
         inFlight.push_back(gl::Fence::insert());
@@ -185,7 +188,7 @@ int run(const Args& a) {
                 context->version().c_str(),
                 pipelineClock ? "frame pipeline, GL timer queries" : "measuring renderer, wall clock around glFinish");
 
-    const cli::ScratchDir temp("cubeao-gpubench");
+    const ScratchDir temp("cubeao-gpubench");
     const fs::path file = temp.path / "synthetic.cubeao";
     const CacheParams params = syntheticParams(scene, a.res);
     const float radius = params.radius;
@@ -194,7 +197,7 @@ int run(const Args& a) {
         // Within 3 R of the walk, with no ray test keeping them out of walls (the timing does not need one).
         const float spread = 3.0f * radius;
         const std::vector<glm::vec3> positions =
-            cli::scatterAroundWalk(path, a.probes, [spread](const glm::vec3&, const glm::vec3&) { return spread; });
+            scatterAroundWalk(path, a.probes, [spread](const glm::vec3&, const glm::vec3&) { return spread; });
         const std::vector<ProbeRecord> payloads = syntheticPayloads(params, 1.1f * scene.bounds.diagonal(), 8);
         writeCache(file, params, syntheticProbeViews(positions, payloads));
         spdlog::info("cubeao-gpubench: {} synthetic probes at {}² written in {:.0f} ms ({:.0f} MB)", a.probes, a.res,
@@ -216,15 +219,15 @@ int run(const Args& a) {
         BlurSettings blur;
         if (method == "probes") {
             ProbeProjectionSettings settings;
-            settings.residency = cli::residencySettings(a.gpuBudgetMb, a.uploadMb);
-            pass = cli::makeAoPass(gtao, &cache, scene, settings, true);
+            settings.residency = ResidencySettings::fromMib(a.gpuBudgetMb, a.uploadMb);
+            pass = makeAoPass(gtao, &cache, scene.positions, scene.indices, settings, true);
             const auto& p = dynamic_cast<const ProbeProjectionPass&>(*pass);
             blur = probeBlurSettings(a.res, a.height, PinholeCamera(path, 0, a.width, a.height).tanHalfFovY);
             row["probes"] = a.probes;
             row["res"] = a.res;
             row["gpu_bytes"] = p.gpuBytes();
         } else {
-            pass = cli::makeAoPass(gtao, nullptr, scene);
+            pass = makeAoPass(gtao, nullptr, scene.positions, scene.indices);
         }
         const Measured m = measure(a, scene, path, std::move(pass), blur, pipelineClock);
         const double n = double(std::max(m.sampled, 1));

@@ -28,6 +28,7 @@
 #include "cubeao-view/script.h"
 #include "cubeao-view/view_modes.h"
 #include "cubeao-view/viewer_state.h"
+#include "cubeao/cli_util.h"
 #include "cubeao/bake/bake_settings.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/core/durable_file.h"
@@ -37,11 +38,11 @@
 #include "cubeao/metrics/image_io.h"
 #include "cubeao/placement/live_placement.h"
 #include "cubeao/placement/placement.h"
-#include "cubeao/render_setup.h"
 #include "cubeao/runtime/frame_pipeline.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/camera_path.h"
 #include "cubeao/scene/import.h"
+#include "cubeao/ssao/ao_methods.h"
 
 namespace cubeao::viewer {
 namespace {
@@ -242,7 +243,7 @@ void Viewer::loadInputs() {
     s.method = SsaoMethod::Gtao;
     s.radius = cache_ ? cache_->params().radius : 0.0f;
     ssao_ = resolveSsaoSettings(s, scene_.defaultRadius());
-    composite_ = cli::compositeFor(scene_, 1.0f);
+    composite_ = previewComposite(scene_.up, 1.0f);
 
     s_.camera.up = glm::normalize(scene_.up);
     if (path_ && !path_->frames.empty()) {
@@ -259,19 +260,13 @@ void Viewer::loadInputs() {
 
 void Viewer::buildPipelines() {
     ProbeProjectionSettings settings;
-    settings.residency = cli::residencySettings(o_.gpuBudgetMb, o_.uploadMb);
-    std::unique_ptr<AoPass> method;
-    if (cache_) {
-        method = cli::makeAoPass(ssao_, cache_.get(), scene_, settings, true);
-    } else if (o_.live) {
-        // No cache: an empty probe set that live placement fills; GTAO covers what no probe sees yet.
-        auto pass = std::make_unique<ProbeProjectionPass>(
-            cacheParamsFor(liveBake(Estimator::HorizonSplit), scene_), scene_.positions, scene_.indices, settings);
-        pass->setFallback(std::make_unique<GtaoFallback>(ssao_));  // ssao_ is gtao's, as makeAoPass gives it
-        method = std::move(pass);
-    } else {
-        method = std::make_unique<SsaoPass>(ssao_);
-    }
+    settings.residency = ResidencySettings::fromMib(o_.gpuBudgetMb, o_.uploadMb);
+    // The cache's probes over GTAO; live placement without a cache starts from no probes (GTAO covers
+    // what no probe sees yet); neither: GTAO.
+    std::unique_ptr<AoPass> method =
+        !cache_ && o_.live ? makeEmptyProbePass(cacheParamsFor(liveBake(Estimator::HorizonSplit), scene_), ssao_,
+                                                scene_.positions, scene_.indices, settings)
+                           : makeAoPass(ssao_, cache_.get(), scene_.positions, scene_.indices, settings);
     // The probes' blur width follows the render size (renderFrame chooses it every frame).
     main_ = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, std::move(method), BlurSettings{},
                                             composite_);
@@ -283,7 +278,7 @@ FramePipeline& Viewer::baselinePipeline(const std::string& name) {
         SsaoSettings s = ssao_;
         s.method = parseSsaoMethod(name);
         s = resolveSsaoSettings(s, scene_.defaultRadius());
-        p = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, std::make_unique<SsaoPass>(s),
+        p = std::make_unique<FramePipeline>(scene_.positions, scene_.indices, makeAoPass(s, nullptr, scene_.positions, scene_.indices),
                                             BlurSettings{}, composite_);
     }
     return *p;

@@ -77,6 +77,22 @@ inline void resolveImageSize(int width, int height, const CameraPath& path, int&
     checkRange("the image height (--height, or --width over the camera's aspect)", h, 1, kMaxImageSide);
 }
 
+// --gpu-budget-mb and --upload-mb, MiB, as `render`, `bench render`, cubeao-gpubench and cubeao-view take
+// them (ResidencySettings::fromMib): their problems (empty: both fine; 1 TiB is beyond any GPU made, the
+// lower bound is checked against the cache once it is read). A negative count would wrap to a huge budget.
+inline std::vector<std::string> residencyOptionProblems(double gpuBudgetMb, double uploadMb) {
+    std::vector<std::string> problems;
+    if (!(gpuBudgetMb >= 0.0 && gpuBudgetMb <= 1024.0 * 1024.0))
+        problems.push_back("--gpu-budget-mb must lie in [0, 1048576] (0 = every probe resident)");
+    if (!(uploadMb >= 0.0 && uploadMb <= 65536.0))
+        problems.push_back("--upload-mb must lie in [0, 65536] (0 = the default, 8)");
+    return problems;
+}
+inline void checkResidencyOptions(double gpuBudgetMb, double uploadMb) {
+    if (const auto problems = residencyOptionProblems(gpuBudgetMb, uploadMb); !problems.empty())
+        throw UsageError(problems.front());
+}
+
 // "ao_0005.exr": the camera path's frame index, so `compare` pairs files by name.
 inline std::string frameName(const char* prefix, std::size_t index, const char* ext) {
     char buf[48];

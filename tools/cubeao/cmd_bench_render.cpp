@@ -38,17 +38,20 @@
 
 #include "cli_util.h"
 #include "commands.h"
-#include "render_setup.h"
+#include "run_json.h"
 #include "cubeao/bake/bake.h"
 #include "cubeao/bake/bake_driver.h"
 #include "cubeao/cache/synthetic_probes.h"
 #include "cubeao/core/error.h"
 #include "cubeao/core/progress.h"
+#include "cubeao/core/scratch_dir.h"
 #include "cubeao/gl/context.h"
 #include "cubeao/gl/timer.h"
 #include "cubeao/reference/embree_scene.h"
 #include "cubeao/scene/builtin.h"
+#include "cubeao/placement/walk_scatter.h"
 #include "cubeao/scene/import.h"
+#include "cubeao/ssao/ao_methods.h"
 
 namespace cubeao::cli {
 namespace {
@@ -210,7 +213,7 @@ struct Timed {
     Timed(nlohmann::json r, std::unique_ptr<FrameRenderer> fr, const CameraPath& path, std::size_t frame, int w, int h,
           std::unique_ptr<CacheReader> reader = nullptr, fs::path removeAfter = {})
         : cacheFile(std::move(removeAfter)), cache(std::move(reader)), row(std::move(r)), renderer(std::move(fr)) {
-        renderer->render(frameView(path, frame, w, h), std::uint32_t(frame));
+        renderer->render(CameraView::fromPath(path, frame, w, h), std::uint32_t(frame));
     }
     const ProbeProjectionPass* projection() const {
         return dynamic_cast<const ProbeProjectionPass*>(&renderer->method());
@@ -219,7 +222,7 @@ struct Timed {
     void time(const CameraPath& path, const std::vector<std::size_t>& frames, int w, int h) {
         const ProbeProjectionPass* p = projection();
         for (const std::size_t f : frames) {
-            timings.push_back(renderer->render(frameView(path, f, w, h), std::uint32_t(f)).timings);
+            timings.push_back(renderer->render(CameraView::fromPath(path, f, w, h), std::uint32_t(f)).timings);
             fetches += renderer->method().fetchesPerPixel();
             if (p) uncovered += p->uncoveredFraction();
             if (p && p->fallback()) screenSpace += p->fallback()->filledFraction();
@@ -269,7 +272,7 @@ struct Bench {
         s.method = parseSsaoMethod(method);
         s = resolveSsaoSettings(s, scene.defaultRadius());
         return timed({{"method", method}, {"fetches_per_pixel_planned", plannedFetchesPerPixel(s)}},
-                     makeAoPass(s, nullptr, scene));
+                     makeAoPass(s, nullptr, scene.positions, scene.indices));
     }
 
     // A kept cache of `count` probes with `params` at `file`, if there is one to reuse.
@@ -306,10 +309,10 @@ struct Bench {
         gtao.radius = cache->params().radius;
         gtao = resolveSsaoSettings(gtao, scene.defaultRadius());
         ProbeProjectionSettings settings;
-        settings.residency = residencySettings(args.gpuBudgetMb, args.uploadMb);
+        settings.residency = ResidencySettings::fromMib(args.gpuBudgetMb, args.uploadMb);
         std::unique_ptr<AoPass> pass;
         // Prep: the candidate grid (reads the probes' distances), the first residency pool, compile.
-        const double prepMs = gl::timeGpu([&] { pass = makeAoPass(gtao, cache.get(), scene, settings, true); }).wallMs;
+        const double prepMs = gl::timeGpu([&] { pass = makeAoPass(gtao, cache.get(), scene.positions, scene.indices, settings, true); }).wallMs;
         const auto& projection = dynamic_cast<const ProbeProjectionPass&>(*pass);
         const ProbeAtlasLayout& atlas = projection.atlas();
         const ProbeGrid& grid = projection.grid();
@@ -430,7 +433,7 @@ void run(const RenderBenchArgs& a) {
     std::string whyNot;
     const std::optional<gl::HeadlessContext> context = gl::HeadlessContext::tryCreate(&whyNot);
     if (!context) throw Error("bench render needs an OpenGL 4.5 context: " + whyNot);
-    const Bench bench{a, scene, path, benchFrames(path, a.frames), BlurSettings{}, compositeFor(scene, 1.0f)};
+    const Bench bench{a, scene, path, benchFrames(path, a.frames), BlurSettings{}, previewComposite(scene.up, 1.0f)};
     const std::set<std::size_t> counts(a.probes.begin(), a.probes.end());
     const bool wall = gl::trustedClock() == gl::GpuClock::WallClock;
     std::printf("bench render: %s, %dx%d, %zu frames x %d interleaved rounds (median), blur %d, on %s (%s); ms per pass:\n",

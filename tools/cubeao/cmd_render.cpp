@@ -13,7 +13,7 @@
 
 #include "cli_util.h"
 #include "commands.h"
-#include "render_setup.h"
+#include "run_json.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/runtime/probe_projection.h"
 #include "cubeao/core/durable_file.h"
@@ -25,7 +25,7 @@
 #include "cubeao/runtime/renderer.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/import.h"
-#include "cubeao/ssao/ssao_pass.h"
+#include "cubeao/ssao/ao_methods.h"
 
 namespace cubeao::cli {
 namespace {
@@ -89,7 +89,7 @@ PassSettings usageChecked(const RenderArgs& a) {
     checkResidencyOptions(a.gpuBudgetMb, a.uploadMb);
     if (a.fallback != "gtao" && a.fallback != "none")
         throw UsageError("--fallback \"" + a.fallback + "\": expected gtao or none");
-    p.probes.residency = residencySettings(a.gpuBudgetMb, a.uploadMb);
+    p.probes.residency = ResidencySettings::fromMib(a.gpuBudgetMb, a.uploadMb);
     return p;
 }
 
@@ -151,16 +151,16 @@ void run(const RenderArgs& a) {
     int w = 0, h = 0;
     resolveImageSize(a.width, a.height, path, w, h);
     if (cache && !a.blur)
-        settings.blur = probeBlurSettings(int(cache->params().res), h, frameView(path, range.begin, w, h).tanHalfFovY);
+        settings.blur = probeBlurSettings(int(cache->params().res), h, CameraView::fromPath(path, range.begin, w, h).tanHalfFovY);
     fs::create_directories(a.out);
 
     const gl::HeadlessContext context = gl::HeadlessContext::create();
     spdlog::info("render: {} ({} triangles), {} frames {}:{} at {}x{}, R = {}, on {}", scene.source,
                  scene.triangleCount(), a.method, range.begin, range.end, w, h, ssao.radius,
                  context.renderer());
-    const CompositeSettings composite = compositeFor(scene, a.alpha);
+    const CompositeSettings composite = previewComposite(scene.up, a.alpha);
     FrameRenderer renderer(scene.positions, scene.indices,
-                           makeAoPass(ssao, cache.get(), scene, settings.probes, a.fallback == "gtao"), settings.blur,
+                           makeAoPass(ssao, cache.get(), scene.positions, scene.indices, settings.probes, a.fallback == "gtao"), settings.blur,
                            composite);
     auto* projection = dynamic_cast<ProbeProjectionPass*>(&renderer.method());
     PixelShares shares;
@@ -170,7 +170,7 @@ void run(const RenderArgs& a) {
     double fetches = 0.0;
     Progress progress("render", range.size(), "frames");
     for (std::size_t f = range.begin; f < range.end; ++f) {
-        const RenderedFrame frame = renderer.render(frameView(path, f, w, h), std::uint32_t(f));
+        const RenderedFrame frame = renderer.render(CameraView::fromPath(path, f, w, h), std::uint32_t(f));
         fetches += renderer.method().fetchesPerPixel();
         timings.push_back(frame.timings);
         frames.push_back(writeFrame(a.out, f, frame));

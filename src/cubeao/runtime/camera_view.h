@@ -49,6 +49,10 @@ struct CameraView {
         v.nearPlane = nearPlane;
         return v;
     }
+    // Frame `frame` of a camera path at width × height, clipped at the path's near plane.
+    static CameraView fromPath(const CameraPath& path, std::size_t frame, int width, int height) {
+        return fromPinhole(PinholeCamera(path, frame, width, height), path.nearPlane);
+    }
 
     float aspect() const { return float(width) / float(height); }
     // Pixels per view-space unit at view depth 1 (the focal length in pixels).

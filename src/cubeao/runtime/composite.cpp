@@ -23,6 +23,13 @@ glm::vec3 defaultLightDirection(const glm::vec3& up) {
     return glm::normalize(std::sin(elevation) * u + std::cos(elevation) * glm::normalize(h + 0.6f * h2));
 }
 
+CompositeSettings previewComposite(const glm::vec3& up, float alpha) {
+    CompositeSettings c;
+    c.alpha = alpha;
+    c.lightDirection = defaultLightDirection(up);
+    return c;
+}
+
 glm::vec3 compositePixel(const glm::vec3& normal, const glm::vec3& light, float ao, const CompositeSettings& s) {
     return kernel::compositeColour(normal, light, ao, s.albedo, s.ambient, s.diffuse, s.alpha);
 }

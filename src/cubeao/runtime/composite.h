@@ -23,6 +23,8 @@ struct CompositeSettings {
 
 // A light from high up (60° elevation) at a fixed azimuth around the scene's `up`.
 glm::vec3 defaultLightDirection(const glm::vec3& up);
+// The previews' lighting for a scene whose up axis is `up`: the default light, AO at strength `alpha`.
+CompositeSettings previewComposite(const glm::vec3& up, float alpha = 1.0f);
 
 // One lit pixel (view-space normal and light): shaders/common/composite.h, which composite.comp compiles too.
 glm::vec3 compositePixel(const glm::vec3& normal, const glm::vec3& light, float ao, const CompositeSettings& s);

@@ -76,6 +76,13 @@ struct ResidencySettings {
     std::size_t gpuBudgetBytes = 0;
     // Bytes uploaded per frame at most; 0 → 8 MiB. At least one probe's bytes.
     std::size_t uploadBytesPerFrame = 0;
+
+    // From MiB, as `render`, `bench render`, cubeao-gpubench and cubeao-view take them (--gpu-budget-mb,
+    // --upload-mb; not negative).
+    static ResidencySettings fromMib(double gpuBudgetMb, double uploadMb) {
+        constexpr double kMib = 1024.0 * 1024.0;
+        return {std::size_t(gpuBudgetMb * kMib), std::size_t(uploadMb * kMib)};
+    }
 };
 
 struct ResidencyStats {
