@@ -30,7 +30,8 @@
 #include "cubeao/core/error.h"
 #include "cubeao/metrics/image_io.h"
 #include "cubeao/metrics/image_metrics.h"
-#include "cubeao/reference/embree_scene.h"
+#include "cubeao/metrics/run_results.h"
+#include "cubeao/reference/top_down.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/import.h"
 #include "report_html.h"
@@ -53,213 +54,10 @@ struct ReportOptions {
 
 // ---- reading a run ------------------------------------------------------------------------------
 
-json readJsonFile(const fs::path& path, const fs::path& dir) {
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec))
-        throw Error(dir.string() + " is not a cubeao run: " + path.string() +
-                    " is missing (tools/demo.sh and tools/walks.sh write it)");
-    std::ifstream in(path);
-    std::stringstream text;
-    text << in.rdbuf();
-    if (text.str().find_first_not_of(" \t\r\n") == std::string::npos)
-        throw Error(path.string() + " is empty (did the step that writes it fail?)");
-    json j;
-    try {
-        j = json::parse(text.str());
-    } catch (const json::exception& e) {
-        throw Error(path.string() + ": not valid JSON: " + e.what());
-    }
-    if (!j.is_object()) throw Error(path.string() + ": expected a JSON object");
-    return j;
-}
-
-// A number from a JSON object, NaN when absent or null (psnr of identical images is null).
-double num(const json& j, const char* key) {
-    if (!j.is_object()) return kNaN;
-    const auto it = j.find(key);
-    return it != j.end() && it->is_number() ? it->get<double>() : kNaN;
-}
-
-std::string str(const json& j, const char* key, const std::string& fallback = "") {
-    if (!j.is_object()) return fallback;
-    const auto it = j.find(key);
-    return it != j.end() && it->is_string() ? it->get<std::string>() : fallback;
-}
-
-// A member object, or an empty one when `j` is not an object or lacks it (a run without render-*.json).
-json sub(const json& j, const char* key) {
-    if (!j.is_object()) return json::object();
-    const auto it = j.find(key);
-    return it != j.end() && it->is_object() ? *it : json::object();
-}
-
-bool isProbesMethod(const std::string& name) { return name == "probes" || name.rfind("probes-", 0) == 0; }
-
-// Probes first (the subject), then the baselines in the order demo.sh renders them.
-int methodRank(const std::string& name) {
-    if (name == "probes") return 0;
-    if (isProbesMethod(name)) return 1;
-    static const std::vector<std::string> kBaselines = {"gtao", "hbao", "alchemy"};
-    const auto it = std::find(kBaselines.begin(), kBaselines.end(), name);
-    return it == kBaselines.end() ? 9 : 2 + int(it - kBaselines.begin());
-}
-
-struct Method {
-    std::string name;
-    json compare, render;              // render: null when render-NAME.json is absent
-    fs::path dir;                      // DIR/render-NAME
-    std::vector<double> mae, flicker;  // per frame of Run::frames; flicker NaN for the first frame
+// A run as the page shows it: its results and the HTML anchor of its section.
+struct Run : RunResults {
+    std::string id;
 };
-
-struct Frame {
-    std::string name;  // ao_NNNN.exr
-    int number = 0;
-};
-
-struct Run {
-    fs::path dir;
-    std::string id;  // HTML anchor
-    json info, probes, reference;
-    std::vector<std::pair<std::string, json>> bakes, caches;  // estimator -> bake-E.json, bake-E-info.json
-    std::vector<Method> methods;
-    std::vector<Frame> frames;
-    std::vector<std::size_t> picked;  // positions in `frames` shown as pictures
-    // The pictures: [picked frame][0 = reference, 1 + k = method k].
-    std::vector<std::vector<Image>> pictures;
-};
-
-int frameNumberOf(const std::string& name) {
-    // ao_NNNN.exr
-    try {
-        return std::stoi(name.substr(3, name.size() - 7));
-    } catch (const std::exception&) {
-        return -1;
-    }
-}
-
-std::vector<int> parseFrameList(const std::string& spec) {
-    std::vector<int> out;
-    std::stringstream in(spec);
-    std::string item;
-    while (std::getline(in, item, ',')) {
-        std::size_t used = 0;
-        int v = -1;
-        try {
-            v = std::stoi(item, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (used == 0 || used != item.size() || v < 0)
-            throw UsageError("--frames: \"" + item + "\" is not a frame number (expected N,M,... e.g. 0,12,47)");
-        out.push_back(v);
-    }
-    if (out.empty()) throw UsageError("--frames: no frame numbers in \"" + spec + "\"");
-    return out;
-}
-
-Run loadRun(const fs::path& dir, const std::vector<int>& wantFrames) {
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw Error(dir.string() + " is not a cubeao run: no such directory");
-    Run run;
-    run.dir = dir;
-    run.info = readJsonFile(dir / "info.json", dir);
-    run.probes = readJsonFile(dir / "probes.json", dir);
-    run.reference = readJsonFile(dir / "reference.json", dir);
-    if (!fs::is_directory(dir / "reference", ec))
-        throw Error(dir.string() + " is not a cubeao run: " + (dir / "reference").string() + "/ is missing");
-    for (const auto& entry : fs::directory_iterator(dir)) {
-        const std::string f = entry.path().filename().string();
-        if (f.rfind("compare-", 0) == 0 && entry.path().extension() == ".json") {
-            Method m;
-            m.name = f.substr(8, f.size() - 8 - 5);
-            m.dir = dir / ("render-" + m.name);
-            m.compare = readJsonFile(entry.path(), dir);
-            if (!fs::is_directory(m.dir, ec))
-                throw Error(dir.string() + ": " + f + " has no frames beside it: " + m.dir.string() + "/ is missing");
-            if (fs::is_regular_file(dir / ("render-" + m.name + ".json"), ec))
-                m.render = readJsonFile(dir / ("render-" + m.name + ".json"), dir);
-            run.methods.push_back(std::move(m));
-        } else if (f.rfind("bake-", 0) == 0 && f.size() > 10 && f.substr(f.size() - 10) == "-info.json") {
-            run.caches.emplace_back(f.substr(5, f.size() - 5 - 10), readJsonFile(entry.path(), dir));
-        } else if (f.rfind("bake-", 0) == 0 && entry.path().extension() == ".json") {
-            run.bakes.emplace_back(f.substr(5, f.size() - 5 - 5), readJsonFile(entry.path(), dir));
-        }
-    }
-    if (run.methods.empty())
-        throw Error(dir.string() +
-                    " is not a cubeao run: no compare-METHOD.json in it (tools/demo.sh writes "
-                    "compare-probes.json and one per baseline)");
-    std::sort(run.methods.begin(), run.methods.end(), [](const Method& a, const Method& b) {
-        return methodRank(a.name) != methodRank(b.name) ? methodRank(a.name) < methodRank(b.name) : a.name < b.name;
-    });
-    std::sort(run.bakes.begin(), run.bakes.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-    // The frames: those the first compare paired (all compares cover the same reference).
-    const json& frames = run.methods.front().compare.value("frames", json::array());
-    for (const json& f : frames) {
-        const std::string name = str(f, "name");
-        if (!name.empty() && f.is_object()) run.frames.push_back({name, f.value("frame", frameNumberOf(name))});
-    }
-    if (run.frames.empty()) {
-        for (const auto& entry : fs::directory_iterator(dir / "reference")) {
-            const std::string f = entry.path().filename().string();
-            if (f.rfind("ao_", 0) == 0 && entry.path().extension() == ".exr")
-                run.frames.push_back({f, frameNumberOf(f)});
-        }
-        std::sort(run.frames.begin(), run.frames.end(),
-                  [](const Frame& a, const Frame& b) { return a.number < b.number; });
-    }
-    if (run.frames.empty()) throw Error(dir.string() + ": the reference has no ao_NNNN.exr frames");
-    if (wantFrames.empty()) {
-        const std::size_t n = run.frames.size();
-        run.picked = {0, n / 2, n - 1};
-        run.picked.erase(std::unique(run.picked.begin(), run.picked.end()), run.picked.end());
-    } else {
-        for (const int want : wantFrames) {
-            const auto it =
-                std::find_if(run.frames.begin(), run.frames.end(), [&](const Frame& f) { return f.number == want; });
-            if (it == run.frames.end())
-                throw Error(dir.string() + ": --frames " + std::to_string(want) + " is not a frame of this run (" +
-                            std::to_string(run.frames.size()) + " frames, " +
-                            std::to_string(run.frames.front().number) + " to " +
-                            std::to_string(run.frames.back().number) + ")");
-            run.picked.push_back(std::size_t(it - run.frames.begin()));
-        }
-    }
-    return run;
-}
-
-// Per-frame MAE (from compare-*.json when it has it, else from the EXRs) and per-frame flicker (never in
-// compare-*.json: it keeps the sequence's mean only), and the picked frames' images, in one pass over the
-// EXRs of each method.
-void measureFrames(Run& run) {
-    std::vector<Image> reference;
-    reference.reserve(run.frames.size());
-    for (const Frame& f : run.frames) reference.push_back(readImage(run.dir / "reference" / f.name));
-    run.pictures.assign(run.picked.size(), std::vector<Image>(1 + run.methods.size()));
-    for (std::size_t p = 0; p < run.picked.size(); ++p) run.pictures[p][0] = reference[run.picked[p]];
-    for (std::size_t k = 0; k < run.methods.size(); ++k) {
-        Method& m = run.methods[k];
-        std::map<std::string, double> fromJson;
-        for (const json& f : m.compare.value("frames", json::array()))
-            if (f.is_object() && f.contains("name")) fromJson[str(f, "name")] = num(f, "mae");
-        Image prev;
-        for (std::size_t i = 0; i < run.frames.size(); ++i) {
-            const fs::path path = m.dir / run.frames[i].name;
-            Image a = readImage(path);
-            const Image& b = reference[i];
-            if (!a.sameSize(b))
-                throw Error(path.string() + ": " + std::to_string(a.width) + "x" + std::to_string(a.height) +
-                            ", the reference frame is " + std::to_string(b.width) + "x" + std::to_string(b.height));
-            const auto known = fromJson.find(run.frames[i].name);
-            m.mae.push_back(known != fromJson.end() && std::isfinite(known->second) ? known->second
-                                                                                    : imageDiff(a, b).mae);
-            m.flicker.push_back(i == 0 || !prev.sameSize(a) ? kNaN : flickerPair(prev, a, reference[i - 1], b));
-            for (std::size_t p = 0; p < run.picked.size(); ++p)
-                if (run.picked[p] == i) run.pictures[p][1 + k] = a;
-            prev = std::move(a);
-        }
-    }
-}
 
 // ---- images -------------------------------------------------------------------------------------
 
@@ -291,26 +89,19 @@ std::string imgTag(const std::string& uri, int w, int h, const std::string& alt)
 
 // ---- the top-down view --------------------------------------------------------------------------
 
-struct TopDown {
-    std::string uri;  // PNG
-    int width = 0, height = 0;
-    glm::vec3 e1{1, 0, 0}, e2{0, 0, 1}, up{0, 1, 0};
-    float min1 = 0, min2 = 0, pixel = 1;  // world units per pixel
-    float cut = 0;                        // section height along `up`
-    bool cutBelowTop = false;
-    const char* cutAbove = "";  // what the cut height is measured from
+// The plan (reference/top_down.h) with what the page says about it.
+struct TopDown : TopDownView {
+    std::string uri;                // PNG
+    const char* cutAbove = "";      // what the cut height is measured from
     std::string note;               // why the scene could not be drawn, when it could not
     std::vector<glm::vec3> probes;  // positions in the scene's local coordinates
     std::vector<glm::vec3> walk;    // the camera's eye per frame of the path placement used (probes.json "camera")
-    glm::vec2 toPixel(const glm::vec3& p) const {
-        return {(glm::dot(p, e1) - min1) / pixel, (glm::dot(p, e2) - min2) / pixel};
-    }
 };
 
 // The run's scene as recorded in info.json: a builtin name, an absolute path, or a path relative to where
 // demo.sh ran (the repository root): tried as given, then against each folder above DIR.
 std::optional<Scene> findScene(const Run& run, std::string& note) {
-    const std::string spec = str(run.info, "scene");
+    const std::string spec = jsonString(run.info, "scene");
     if (spec.empty()) {
         note = "info.json names no scene";
         return std::nullopt;
@@ -324,7 +115,7 @@ std::optional<Scene> findScene(const Run& run, std::string& note) {
         if (t.rfind("builtin:", 0) != 0 && !fs::exists(t, ec)) continue;
         try {
             Scene s = loadScene(t);
-            const std::string hash = str(run.info, "hash");
+            const std::string hash = jsonString(run.info, "hash");
             if (!hash.empty() && hash != format("0x%016llx", static_cast<unsigned long long>(s.hash)))
                 note = t + " has changed since the run (geometry hash " +
                        format("0x%016llx", static_cast<unsigned long long>(s.hash)) + ", the run's " + hash + ")";
@@ -350,7 +141,7 @@ std::optional<std::string> findFile(const Run& run, const std::string& spec) {
 
 // The eyes of the camera path the probes were placed for (the walk demo.sh renders), when it can be found.
 std::vector<glm::vec3> walkEyes(const Run& run, const Scene& scene, std::string& note) {
-    const std::string spec = str(run.probes, "camera");
+    const std::string spec = jsonString(run.probes, "camera");
     if (spec.empty()) return {};
     const std::optional<std::string> file = spec.rfind("builtin:", 0) == 0 ? spec : findFile(run, spec);
     if (!file) {
@@ -377,95 +168,16 @@ std::vector<glm::vec3> probePositions(const Run& run, const Scene* scene) {
     return out;
 }
 
-// An orthographic view from above, cut horizontally a little above the highest probe so that roofs and
-// vaults do not hide the floor the probes stand over: rays go straight down from the cut (Embree), the
-// shade is height (higher = lighter) times a Lambert term, and outlines mark height jumps (walls).
+// The run's plan: its scene (when found), probes and walk (reference/top_down.h).
 TopDown renderTopDown(const Run& run, int maxSide) {
     TopDown td;
     std::optional<Scene> scene = findScene(run, td.note);
     td.probes = probePositions(run, scene ? &*scene : nullptr);
     if (scene) td.walk = walkEyes(run, *scene, td.note);
-    const std::vector<glm::vec3>& probes = td.probes;
-    if (scene) td.up = glm::normalize(scene->up);
-    td.e1 = std::abs(td.up.y) > 0.9f ? glm::vec3(1, 0, 0) : glm::normalize(glm::cross(glm::vec3(0, 1, 0), td.up));
-    td.e2 = glm::normalize(glm::cross(td.e1, td.up));
-    float lo1 = std::numeric_limits<float>::max(), hi1 = -lo1, lo2 = lo1, hi2 = -lo1, loH = lo1, hiH = -lo1;
-    auto extend = [&](const glm::vec3& p) {
-        lo1 = std::min(lo1, glm::dot(p, td.e1)), hi1 = std::max(hi1, glm::dot(p, td.e1));
-        lo2 = std::min(lo2, glm::dot(p, td.e2)), hi2 = std::max(hi2, glm::dot(p, td.e2));
-        loH = std::min(loH, glm::dot(p, td.up)), hiH = std::max(hiH, glm::dot(p, td.up));
-    };
-    if (scene)
-        for (int c = 0; c < 8; ++c)
-            extend({c & 1 ? scene->bounds.max.x : scene->bounds.min.x,
-                    c & 2 ? scene->bounds.max.y : scene->bounds.min.y,
-                    c & 4 ? scene->bounds.max.z : scene->bounds.min.z});
-    const float radius = float(num(run.reference, "radius"));
-    if (!probes.empty()) {
-        // The view frames the probes with a margin, within the scene: a building in a town model (Sibenik)
-        // would otherwise be a few pixels in the middle of the town.
-        const float s1 = lo1, t1 = hi1, s2 = lo2, t2 = hi2;
-        lo1 = lo2 = std::numeric_limits<float>::max(), hi1 = hi2 = -lo1;
-        for (const glm::vec3& p : probes) extend(p);
-        for (const glm::vec3& p : td.walk) extend(p);
-        const float margin =
-            std::max(std::isfinite(radius) ? 3.0f * radius : 0.0f, 0.3f * std::max(hi1 - lo1, hi2 - lo2));
-        lo1 -= margin, hi1 += margin, lo2 -= margin, hi2 += margin;
-        if (scene) lo1 = std::max(lo1, s1), hi1 = std::min(hi1, t1), lo2 = std::max(lo2, s2), hi2 = std::min(hi2, t2);
-    }
-    if (lo1 > hi1) return td;  // neither scene nor probes
-    const float pad = 0.03f * std::max({hi1 - lo1, hi2 - lo2, 1e-3f});
-    lo1 -= pad, hi1 += pad, lo2 -= pad, hi2 += pad;
-    td.pixel = std::max(hi1 - lo1, hi2 - lo2) / float(maxSide);
-    td.min1 = lo1, td.min2 = lo2;
-    td.width = std::max(1, int(std::ceil((hi1 - lo1) / td.pixel)));
-    td.height = std::max(1, int(std::ceil((hi2 - lo2) / td.pixel)));
-    // The cut: half an AO radius above the highest eye of the walk (what the camera sees from, so galleries
-    // and aisles show their floors), or above the highest probe when there is no walk.
-    const std::vector<glm::vec3>& viewers = td.walk.empty() ? probes : td.walk;
-    float top = -std::numeric_limits<float>::max();
-    for (const glm::vec3& p : viewers) top = std::max(top, glm::dot(p, td.up));
+    static_cast<TopDownView&>(td) = cubeao::renderTopDown(scene ? &*scene : nullptr, td.probes, td.walk,
+                                                          float(jsonNumber(run.reference, "radius")), maxSide);
     td.cutAbove = td.walk.empty() ? "the highest probe" : "the camera's highest eye";
-    td.cut = viewers.empty() ? hiH : std::min(hiH, top + (std::isfinite(radius) ? 0.5f * radius : 0.0f));
-    td.cutBelowTop = td.cut < hiH - 1e-4f * (hiH - loH);
-    td.cut += 1e-4f * (hiH - loH + 1.0f);
-    std::vector<float> rgb(std::size_t(td.width) * td.height * 3, 0.97f);
-    if (scene) {
-        const EmbreeScene embree(*scene);
-        std::vector<float> height(std::size_t(td.width) * td.height, kNaN);
-        std::vector<float> shade(height.size(), 1.0f);
-        const glm::vec3 light = glm::normalize(td.up + 0.6f * td.e1 - 0.4f * td.e2);
-        for (int y = 0; y < td.height; ++y)
-            for (int x = 0; x < td.width; ++x) {
-                const glm::vec3 org = (td.min1 + (float(x) + 0.5f) * td.pixel) * td.e1 +
-                                      (td.min2 + (float(y) + 0.5f) * td.pixel) * td.e2 + td.cut * td.up;
-                const RayHit h = embree.intersect(org, -td.up, 0.0f, td.cut - loH + 1.0f);
-                if (!h.hit) continue;
-                const std::size_t i = std::size_t(y) * td.width + x;
-                height[i] = td.cut - h.t;
-                // Meshes disagree on winding: light either side of a face the same.
-                const glm::vec3 n = glm::dot(h.normal, td.up) < 0.0f ? -h.normal : h.normal;
-                shade[i] = 0.6f + 0.4f * std::max(0.0f, glm::dot(n, light));
-            }
-        const float span = std::max(td.cut - loH, 1e-6f);
-        const float jump = std::isfinite(radius) ? 0.25f * radius : 0.02f * span;
-        for (int y = 0; y < td.height; ++y)
-            for (int x = 0; x < td.width; ++x) {
-                const std::size_t i = std::size_t(y) * td.width + x;
-                if (std::isnan(height[i])) continue;
-                const float t = std::clamp((height[i] - loH) / span, 0.0f, 1.0f);
-                float v = (0.55f + 0.4f * t) * shade[i];
-                for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}}) {
-                    const int nx = x + dx, ny = y + dy;
-                    if (nx < 0 || ny < 0 || nx >= td.width || ny >= td.height) continue;
-                    const float hn = height[std::size_t(ny) * td.width + nx];
-                    if (!std::isnan(hn) && hn - height[i] > jump) v *= 0.55f;  // the foot of something taller
-                }
-                // A faint warm tint, so the plan does not read as one more AO image.
-                rgb[3 * i] = std::min(1.0f, v * 1.02f), rgb[3 * i + 1] = v, rgb[3 * i + 2] = v * 0.94f;
-            }
-    }
-    td.uri = report::pngDataUri(encodePng(td.width, td.height, 3, rgb));
+    if (td.width > 0) td.uri = report::pngDataUri(encodePng(td.width, td.height, 3, td.rgb));
     return td;
 }
 
@@ -477,7 +189,7 @@ const char* kPalette[] = {"#d62728", "#ff7f0e", "#1f77b4", "#2ca02c", "#9467bd",
 
 std::string methodColour(std::size_t k) { return kPalette[k % (sizeof kPalette / sizeof kPalette[0])]; }
 
-std::string methodLabel(const Method& m) {
+std::string methodLabel(const RunMethod& m) {
     if (m.name == "probes") return "probes (traced bake)";
     if (m.name == "probes-hsplit") return "probes (horizon-split bake)";
     return m.name;
@@ -589,43 +301,43 @@ std::string headline(const Run& run) {
     const std::size_t probeCount = run.probes.value("probes", json::array()).size();
     h += "<div class=\"facts\">";
     h += "<span>triangles <b>" + format("%lld", run.info.value("triangles", 0LL)) + "</b></span>";
-    h += "<span>probes <b>" + std::to_string(probeCount) + "</b> (" + escape(str(run.probes, "method", "?")) +
-         " placement: predicted MAE " + fmtNum(num(run.probes, "predicted_mae"), "%.4f") + ", served " +
-         fmtNum(100.0 * num(run.probes, "served"), "%.1f") + " % of what the walk sees, fine coverage " +
-         fmtNum(100.0 * num(run.probes, "coverage"), "%.1f") + " %)</span>";
+    h += "<span>probes <b>" + std::to_string(probeCount) + "</b> (" + escape(jsonString(run.probes, "method", "?")) +
+         " placement: predicted MAE " + fmtNum(jsonNumber(run.probes, "predicted_mae"), "%.4f") + ", served " +
+         fmtNum(100.0 * jsonNumber(run.probes, "served"), "%.1f") + " % of what the walk sees, fine coverage " +
+         fmtNum(100.0 * jsonNumber(run.probes, "coverage"), "%.1f") + " %)</span>";
     h += "<span>walk <b>" + std::to_string(run.frames.size()) + " frames</b> at " +
          format("%lldx%lld", ref.value("width", 0LL), ref.value("height", 0LL)) + "</span>";
-    h += "<span>AO radius <b>" + fmtNum(num(ref, "radius"), "%.3g") + "</b> scene units</span>";
+    h += "<span>AO radius <b>" + fmtNum(jsonNumber(ref, "radius"), "%.3g") + "</b> scene units</span>";
     h += "<span>reference <b>" + format("%lld", ref.value("spp", 0LL)) + " rays/pixel</b>, noise " +
-         fmtNum(num(ref, "noise"), "%.4f") + "</span>";
+         fmtNum(jsonNumber(ref, "noise"), "%.4f") + "</span>";
     h += "</div>";
     // The table.
     struct Col {
         const char* title;
         const char* fmt;
         bool lowerIsBetter;
-        std::function<double(const Method&)> get;
+        std::function<double(const RunMethod&)> get;
     };
     const std::vector<Col> cols = {
-        {"MAE", "%.4f", true, [](const Method& m) { return num(m.compare, "mae"); }},
-        {"RMSE", "%.4f", true, [](const Method& m) { return num(m.compare, "rmse"); }},
-        {"SSIM", "%.4f", false, [](const Method& m) { return num(m.compare, "ssim"); }},
-        {"PSNR dB", "%.2f", false, [](const Method& m) { return num(m.compare, "psnr"); }},
-        {"flicker", "%.4f", true, [](const Method& m) { return num(m.compare, "flicker"); }},
-        {"AO ms", "%.1f", true, [](const Method& m) { return num(sub(m.render, "timings_ms"), "ao"); }},
+        {"MAE", "%.4f", true, [](const RunMethod& m) { return jsonNumber(m.compare, "mae"); }},
+        {"RMSE", "%.4f", true, [](const RunMethod& m) { return jsonNumber(m.compare, "rmse"); }},
+        {"SSIM", "%.4f", false, [](const RunMethod& m) { return jsonNumber(m.compare, "ssim"); }},
+        {"PSNR dB", "%.2f", false, [](const RunMethod& m) { return jsonNumber(m.compare, "psnr"); }},
+        {"flicker", "%.4f", true, [](const RunMethod& m) { return jsonNumber(m.compare, "flicker"); }},
+        {"AO ms", "%.1f", true, [](const RunMethod& m) { return jsonNumber(jsonObject(m.render, "timings_ms"), "ao"); }},
     };
     h += "<table class=\"metrics\"><tr><th>method</th>";
     for (const Col& c : cols) h += std::string("<th>") + c.title + "</th>";
     h += "<th>uncovered</th></tr>";
     std::vector<double> best(cols.size(), kNaN);
     for (std::size_t c = 0; c < cols.size(); ++c)
-        for (const Method& m : run.methods) {
+        for (const RunMethod& m : run.methods) {
             const double v = cols[c].get(m);
             if (std::isfinite(v) && (!std::isfinite(best[c]) || (cols[c].lowerIsBetter ? v < best[c] : v > best[c])))
                 best[c] = v;
         }
     for (std::size_t k = 0; k < run.methods.size(); ++k) {
-        const Method& m = run.methods[k];
+        const RunMethod& m = run.methods[k];
         h += "<tr><td><span class=\"swatch\" style=\"background:" + methodColour(k) + "\"></span>" +
              escape(methodLabel(m)) + "</td>";
         for (std::size_t c = 0; c < cols.size(); ++c) {
@@ -634,16 +346,16 @@ std::string headline(const Run& run) {
                  (std::isfinite(v) && v == best[c] && run.methods.size() > 1 ? " class=\"best\"" : "") + ">" +
                  fmtNum(v, cols[c].fmt) + "</td>";
         }
-        const double unc = num(m.render, "uncovered_fraction");
+        const double unc = jsonNumber(m.render, "uncovered_fraction");
         h += "<td>" + (std::isfinite(unc) ? format("%.1f %%", 100.0 * unc) : std::string("–")) + "</td></tr>";
     }
     h += "</table>";
     h += "<p class=\"note\">Every figure is against the Embree reference (1 = open, 0 = occluded). Lower is better "
          "for MAE, RMSE, flicker (frame-to-frame change the reference does not have) and time; higher for SSIM and "
          "PSNR. The best of each column is green. The reference's own noise (" +
-         fmtNum(num(ref, "noise"), "%.4f") + ") is part of every MAE.";
+         fmtNum(jsonNumber(ref, "noise"), "%.4f") + ") is part of every MAE.";
     const std::string renderer =
-        run.methods.front().render.is_object() ? str(run.methods.front().render, "renderer") : "";
+        run.methods.front().render.is_object() ? jsonString(run.methods.front().render, "renderer") : "";
     if (!renderer.empty())
         h += " AO ms: mean per frame on <b>" + escape(renderer) + "</b>" +
              (renderer.find("llvmpipe") != std::string::npos ? " (software rendering: compare the methods with each "
@@ -652,35 +364,35 @@ std::string headline(const Run& run) {
              ".";
     h += "</p>";
     // Probes against the best screen-space baseline, spelled out.
-    const Method* bestBase = nullptr;
-    for (const Method& m : run.methods)
-        if (!isProbesMethod(m.name) && std::isfinite(num(m.compare, "mae")) &&
-            (!bestBase || num(m.compare, "mae") < num(bestBase->compare, "mae")))
+    const RunMethod* bestBase = nullptr;
+    for (const RunMethod& m : run.methods)
+        if (!isProbesMethod(m.name) && std::isfinite(jsonNumber(m.compare, "mae")) &&
+            (!bestBase || jsonNumber(m.compare, "mae") < jsonNumber(bestBase->compare, "mae")))
             bestBase = &m;
-    const Method* bestFlicker = nullptr;
-    for (const Method& m : run.methods)
-        if (!isProbesMethod(m.name) && std::isfinite(num(m.compare, "flicker")) &&
-            (!bestFlicker || num(m.compare, "flicker") < num(bestFlicker->compare, "flicker")))
+    const RunMethod* bestFlicker = nullptr;
+    for (const RunMethod& m : run.methods)
+        if (!isProbesMethod(m.name) && std::isfinite(jsonNumber(m.compare, "flicker")) &&
+            (!bestFlicker || jsonNumber(m.compare, "flicker") < jsonNumber(bestFlicker->compare, "flicker")))
             bestFlicker = &m;
     auto ratio = [](double probes, double base, const char* what) {
         if (!(probes > 0.0) || !(base > 0.0)) return std::string();
         return probes <= base ? format("<b>%.2f× lower</b> %s", base / probes, what)
                               : format("<b class=\"warn\">%.2f× higher</b> %s", probes / base, what);
     };
-    for (const Method& m : run.methods) {
+    for (const RunMethod& m : run.methods) {
         if (!isProbesMethod(m.name) || !bestBase) continue;
         h += "<div class=\"verdict\"><b>" + escape(methodLabel(m)) + "</b>: MAE " +
-             fmtNum(num(m.compare, "mae"), "%.4f") + ", " +
-             ratio(num(m.compare, "mae"), num(bestBase->compare, "mae"), "than the best screen-space baseline, ") +
-             "<b>" + escape(bestBase->name) + "</b> (" + fmtNum(num(bestBase->compare, "mae"), "%.4f") + ")";
+             fmtNum(jsonNumber(m.compare, "mae"), "%.4f") + ", " +
+             ratio(jsonNumber(m.compare, "mae"), jsonNumber(bestBase->compare, "mae"), "than the best screen-space baseline, ") +
+             "<b>" + escape(bestBase->name) + "</b> (" + fmtNum(jsonNumber(bestBase->compare, "mae"), "%.4f") + ")";
         if (bestFlicker)
-            h += "; flicker " + fmtNum(num(m.compare, "flicker"), "%.4f") + ", " +
-                 ratio(num(m.compare, "flicker"), num(bestFlicker->compare, "flicker"),
+            h += "; flicker " + fmtNum(jsonNumber(m.compare, "flicker"), "%.4f") + ", " +
+                 ratio(jsonNumber(m.compare, "flicker"), jsonNumber(bestFlicker->compare, "flicker"),
                        "than the steadiest baseline, ") +
-                 "<b>" + escape(bestFlicker->name) + "</b> (" + fmtNum(num(bestFlicker->compare, "flicker"), "%.4f") +
+                 "<b>" + escape(bestFlicker->name) + "</b> (" + fmtNum(jsonNumber(bestFlicker->compare, "flicker"), "%.4f") +
                  ")";
-        const double aoP = num(sub(m.render, "timings_ms"), "ao");
-        const double aoB = num(sub(bestBase->render, "timings_ms"), "ao");
+        const double aoP = jsonNumber(jsonObject(m.render, "timings_ms"), "ao");
+        const double aoB = jsonNumber(jsonObject(bestBase->render, "timings_ms"), "ao");
         if (std::isfinite(aoP) && std::isfinite(aoB) && aoP > 0.0)
             h += format("; the AO pass takes %.1f ms against %s's %.1f ms", aoP, escape(bestBase->name).c_str(), aoB);
         h += ".</div>";
@@ -692,7 +404,7 @@ std::string headline(const Run& run) {
 std::string framesSection(const Run& run) {
     std::string h = "<h3>Frames: reference and every method, with |method − reference| below</h3>";
     for (std::size_t p = 0; p < run.picked.size(); ++p) {
-        const Frame& f = run.frames[run.picked[p]];
+        const RunFrame& f = run.frames[run.picked[p]];
         const std::vector<Image>& pics = run.pictures[p];
         const Image& ref = pics[0];
         h += "<div class=\"frame\"><div class=\"note\">frame <b>" + std::to_string(f.number) + "</b> (" +
@@ -704,7 +416,7 @@ std::string framesSection(const Run& run) {
                               report::kHeatMax)) +
              "</figure>";
         for (std::size_t k = 0; k < run.methods.size(); ++k) {
-            const Method& m = run.methods[k];
+            const RunMethod& m = run.methods[k];
             const Image& a = pics[1 + k];
             const std::string label = methodLabel(m);
             h += "<figure>" + imgTag(greyUri(a), a.width, a.height, label + ", frame " + std::to_string(f.number)) +
@@ -728,9 +440,9 @@ std::string chartsSection(const Run& run) {
     flicker.yLabel = "flicker";
     mae.width = flicker.width = 565;
     for (std::size_t k = 0; k < run.methods.size(); ++k) {
-        const Method& m = run.methods[k];
+        const RunMethod& m = run.methods[k];
         report::Series s{methodLabel(m), methodColour(k), {}, {}, m.name == "probes-hsplit"};
-        for (const Frame& f : run.frames) s.x.push_back(f.number);
+        for (const RunFrame& f : run.frames) s.x.push_back(f.number);
         s.y = m.mae;
         mae.series.push_back(s);
         s.y = m.flicker;
@@ -752,19 +464,19 @@ std::string timingsSection(const Run& run) {
             json cache;
             for (const auto& [e, c] : run.caches)
                 if (e == est) cache = c;
-            const json settings = sub(b, "settings");
-            const std::string renderer = str(b, "renderer");
-            double bpt = num(cache, "bytes_per_texel");
-            if (!std::isfinite(bpt)) bpt = num(b, "bytes_per_texel");
-            double bytes = num(cache, "file_bytes");
-            if (!std::isfinite(bytes)) bytes = num(b, "file_bytes");
-            const double spp = num(settings, "spp");
+            const json settings = jsonObject(b, "settings");
+            const std::string renderer = jsonString(b, "renderer");
+            double bpt = jsonNumber(cache, "bytes_per_texel");
+            if (!std::isfinite(bpt)) bpt = jsonNumber(b, "bytes_per_texel");
+            double bytes = jsonNumber(cache, "file_bytes");
+            if (!std::isfinite(bytes)) bytes = jsonNumber(b, "file_bytes");
+            const double spp = jsonNumber(settings, "spp");
             h += "<tr><td>" + escape(est) + "</td><td>" +
                  escape(renderer.empty() ? "CPU (Embree)" : "GPU path, " + renderer) + "</td><td>" +
-                 fmtNum(num(b, "probes"), "%.0f") + "</td><td>" + fmtNum(num(settings, "res"), "%.0f²") + "</td><td>" +
+                 fmtNum(jsonNumber(b, "probes"), "%.0f") + "</td><td>" + fmtNum(jsonNumber(settings, "res"), "%.0f²") + "</td><td>" +
                  (est == "traced" ? fmtNum(spp, "%.0f") : std::string("–")) + "</td><td>" +
-                 fmtNum(num(b, "ms_per_probe"), "%.0f") + "</td><td>" + fmtNum(num(b, "verify_mae"), "%.4f") +
-                 "</td><td>" + fmtNum(num(b, "ao_psnr"), "%.1f") + "</td><td>" + fmtNum(bpt, "%.3f") + "</td><td>" +
+                 fmtNum(jsonNumber(b, "ms_per_probe"), "%.0f") + "</td><td>" + fmtNum(jsonNumber(b, "verify_mae"), "%.4f") +
+                 "</td><td>" + fmtNum(jsonNumber(b, "ao_psnr"), "%.1f") + "</td><td>" + fmtNum(bpt, "%.3f") + "</td><td>" +
                  fmtNum(bytes / 1024.0, "%.0f KiB") +
                  (cache.is_object() && cache.value("verified", false) ? " ✓" : "") + "</td></tr>";
         }
@@ -780,17 +492,17 @@ std::string timingsSection(const Run& run) {
     for (const auto& [k, title] : kPasses) h += std::string("<th>") + title + "</th>";
     h += "<th>fetches/pixel</th></tr>";
     for (std::size_t k = 0; k < run.methods.size(); ++k) {
-        const Method& m = run.methods[k];
-        const json t = sub(m.render, "timings_ms");
+        const RunMethod& m = run.methods[k];
+        const json t = jsonObject(m.render, "timings_ms");
         h += "<tr><td><span class=\"swatch\" style=\"background:" + methodColour(k) + "\"></span>" +
              escape(methodLabel(m)) + "</td>";
-        for (const auto& [key, title] : kPasses) h += "<td>" + fmtNum(num(t, key), "%.1f") + "</td>";
-        h += "<td>" + fmtNum(num(m.render, "fetches_per_pixel"), "%.1f") + "</td></tr>";
+        for (const auto& [key, title] : kPasses) h += "<td>" + fmtNum(jsonNumber(t, key), "%.1f") + "</td>";
+        h += "<td>" + fmtNum(jsonNumber(m.render, "fetches_per_pixel"), "%.1f") + "</td></tr>";
     }
     h += "</table>";
     const json& ref = run.reference;
     h += "<p class=\"note\">Reference: " + format("%lld", ref.value("spp", 0LL)) + " rays per pixel, " +
-         fmtNum(num(ref, "trace_s"), "%.0f") + " s of tracing (" + fmtNum(num(ref, "rays_per_s") / 1e6, "%.2f") +
+         fmtNum(jsonNumber(ref, "trace_s"), "%.0f") + " s of tracing (" + fmtNum(jsonNumber(ref, "rays_per_s") / 1e6, "%.2f") +
          " Mrays/s).</p>";
     return h;
 }
@@ -801,7 +513,7 @@ std::string planSection(const Run& run) {
     const TopDown td = renderTopDown(run, 720);
     if (td.width == 0) return h + "<p class=\"note\">No scene and no probes to draw.</p>";
     std::vector<double> gains;
-    for (const json& p : run.probes.value("probes", json::array())) gains.push_back(num(p, "gain"));
+    for (const json& p : run.probes.value("probes", json::array())) gains.push_back(jsonNumber(p, "gain"));
     double gMin = kNaN, gMax = kNaN;
     for (const double g : gains)
         if (std::isfinite(g))
@@ -879,7 +591,7 @@ std::string planSection(const Run& run) {
 }
 
 std::string runSection(Run& run) {
-    const std::string scene = str(run.info, "scene", run.dir.string());
+    const std::string scene = jsonString(run.info, "scene", run.dir.string());
     std::string h = "<section class=\"run\" id=\"" + run.id + "\"><h2>" + escape(fs::path(scene).filename().string()) +
                     "</h2><div class=\"note\">" + escape(scene) + " · run " + escape(run.dir.string()) + "</div>";
     h += headline(run);
@@ -906,7 +618,7 @@ void runReport(const ReportOptions& opt) {
     std::vector<Run> runs;
     for (std::size_t i = 0; i < opt.dirs.size(); ++i) {
         try {
-            runs.push_back(loadRun(opt.dirs[i], wantFrames));
+            runs.push_back({loadRun(opt.dirs[i], wantFrames), ""});
         } catch (const json::exception& e) {
             throw Error(opt.dirs[i] + ": unexpected content in its JSON files: " + e.what());
         }
@@ -925,7 +637,7 @@ void runReport(const ReportOptions& opt) {
         }
     }
     std::string title = "cubeao report";
-    if (runs.size() == 1) title += " — " + fs::path(str(runs[0].info, "scene", "run")).filename().string();
+    if (runs.size() == 1) title += " — " + fs::path(jsonString(runs[0].info, "scene", "run")).filename().string();
     const std::time_t now = std::time(nullptr);
     char when[64];
     std::strftime(when, sizeof when, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
@@ -940,7 +652,7 @@ void runReport(const ReportOptions& opt) {
         html += "<nav>";
         for (const Run& run : runs)
             html += "<a href=\"#" + run.id + "\">" +
-                    escape(fs::path(str(run.info, "scene", run.dir.string())).filename().string()) + "</a>";
+                    escape(fs::path(jsonString(run.info, "scene", run.dir.string())).filename().string()) + "</a>";
         html += "</nav>";
     }
     html += body + "</main></body></html>\n";
@@ -966,7 +678,7 @@ void addReport(CLI::App& app) {
         ->required();
     cmd->add_option("--out", opt->out, "HTML file to write")->required();
     cmd->add_option("--frames", opt->frames,
-                    "Frame numbers to show as pictures, N,M,... (default: first, middle, last)");
+                    "RunFrame numbers to show as pictures, N,M,... (default: first, middle, last)");
     cmd->add_flag("--json", opt->json, "Print one JSON object as the last line");
     cmd->callback([opt] { runReport(*opt); });
 }
