@@ -301,7 +301,9 @@ TEST_F(GlTest, BakeShadersMatchTheSharedLayout) {
         EXPECT_EQ(size[0], v.groupX) << name;
         EXPECT_EQ(size[1], v.groupY) << name;
         EXPECT_EQ(size[2], 1) << name;
-        if (v.gbuffer) EXPECT_EQ(unitOf(p, "gbuffer"), k::kBakeGBufferUnit) << name;
+        if (v.gbuffer) {
+            EXPECT_EQ(unitOf(p, "gbuffer"), k::kBakeGBufferUnit) << name;
+        }
         if (v.texelList) {
             EXPECT_EQ(blockBinding(p, "TexelList"), k::kBakeTexelListBuffer) << name;
             EXPECT_EQ(variableOffset(p, "header.groupsX"), GLint(offsetof(k::TexelListHeader, groupsX))) << name;
