@@ -195,6 +195,14 @@ TEST_F(ReportRun, WritesOneSelfContainedPage) {
                              "the error each removed", "predicted MAE", "ms/probe", "image-rendering:pixelated",
                              "than the best screen-space baseline"})
         EXPECT_TRUE(contains(page, part)) << part;
+    // Each frame side by side: reference | probes | best baseline in one row (here the run's two methods,
+    // so nothing is folded away under them).
+    std::size_t rows = 0;
+    for (std::size_t at = page.find("<div class=\"trio\">"); at != std::string::npos;
+         at = page.find("<div class=\"trio\">", at + 1))
+        ++rows;
+    EXPECT_EQ(rows, 2u);
+    EXPECT_FALSE(contains(page, "<details"));
     EXPECT_EQ(runCli("report " + dir_->path().string() + " --out " + html.string() + " --frames 7").code, 1)
         << "frame 7 is not in the run";
     // No temporary file left beside the page.

@@ -217,7 +217,12 @@ td.best{background:#dff3e2;font-weight:700;color:#0f5b22}
 .note{color:#667;font-size:12.5px}
 .warn{color:#9a4b00}
 .frame{margin:10px 0 18px}
-.strip{display:flex;flex-wrap:wrap;gap:10px;align-items:flex-start}
+.trio{display:grid;grid-template-columns:repeat(3,minmax(0,1fr));gap:10px;align-items:start}
+.trio figure img{width:100%;height:auto}
+.trio figure img+img{margin-top:3px}
+details.more{margin:6px 0 0}
+details.more summary{cursor:pointer;color:#445;font-size:12.5px}
+details.more .trio{margin-top:6px}
 figure{margin:0}
 figcaption{font-size:12px;color:#445;margin-top:2px}
 figure img{display:block;background:#ddd}
@@ -294,8 +299,8 @@ std::string legendBar(const std::string& id, bool heat, const BarTicks& ticks, c
     return std::string("<div class=\"legend\">") + svg + "<span>" + what + "</span></div>";
 }
 
-// Section 1: what the run is, the metric table with the best of each column marked, and the verdict.
-std::string headline(const Run& run) {
+// Section 1: what the run is (runFacts), the metric table (metricsTable) and the verdict (verdicts).
+std::string runFacts(const Run& run) {
     std::string h;
     const json& ref = run.reference;
     const std::size_t probeCount = run.probes.value("probes", json::array()).size();
@@ -311,7 +316,13 @@ std::string headline(const Run& run) {
     h += "<span>reference <b>" + format("%lld", ref.value("spp", 0LL)) + " rays/pixel</b>, noise " +
          fmtNum(jsonNumber(ref, "noise"), "%.4f") + "</span>";
     h += "</div>";
-    // The table.
+    return h;
+}
+
+// The metric table, the best of each column marked, and what its figures are measured against.
+std::string metricsTable(const Run& run) {
+    std::string h;
+    const json& ref = run.reference;
     struct Col {
         const char* title;
         const char* fmt;
@@ -363,17 +374,14 @@ std::string headline(const Run& run) {
                                                              : "") +
              ".";
     h += "</p>";
-    // Probes against the best screen-space baseline, spelled out.
-    const RunMethod* bestBase = nullptr;
-    for (const RunMethod& m : run.methods)
-        if (!isProbesMethod(m.name) && std::isfinite(jsonNumber(m.compare, "mae")) &&
-            (!bestBase || jsonNumber(m.compare, "mae") < jsonNumber(bestBase->compare, "mae")))
-            bestBase = &m;
-    const RunMethod* bestFlicker = nullptr;
-    for (const RunMethod& m : run.methods)
-        if (!isProbesMethod(m.name) && std::isfinite(jsonNumber(m.compare, "flicker")) &&
-            (!bestFlicker || jsonNumber(m.compare, "flicker") < jsonNumber(bestFlicker->compare, "flicker")))
-            bestFlicker = &m;
+    return h;
+}
+
+// The verdict: each probes method against the best screen-space baseline, spelled out.
+std::string verdicts(const Run& run) {
+    std::string h;
+    const RunMethod* bestBase = bestBaseline(run, "mae");
+    const RunMethod* bestFlicker = bestBaseline(run, "flicker");
     auto ratio = [](double probes, double base, const char* what) {
         if (!(probes > 0.0) || !(base > 0.0)) return std::string();
         return probes <= base ? format("<b>%.2f× lower</b> %s", base / probes, what)
@@ -400,32 +408,52 @@ std::string headline(const Run& run) {
     return h;
 }
 
-// Section 2: the picked frames, reference then each method, each method's error map under it.
+// Section 2: each picked frame side by side, reference | probes | the best baseline by MAE, each method's
+// error map under its frame (one scale for all, the legend under the reference); the other methods of
+// the run (another bake, the other baselines) folded away under the three, in the same columns.
+std::string methodFigure(const Run& run, std::size_t k, std::size_t p) {
+    const RunMethod& m = run.methods[k];
+    const Image& a = run.pictures[p][1 + k];
+    const Image& ref = run.pictures[p][0];
+    const std::string label = methodLabel(m), frame = std::to_string(run.frames[run.picked[p]].number);
+    return "<figure>" + imgTag(greyUri(a), a.width, a.height, label + ", frame " + frame) +
+           imgTag(heatUri(absDiff(a, ref)), a.width, a.height, label + " error, frame " + frame) +
+           "<figcaption><span class=\"swatch\" style=\"background:" + methodColour(k) + "\"></span><b>" +
+           escape(label) + "</b> · MAE " + fmtNum(m.mae[run.picked[p]], "%.4f") + "</figcaption></figure>";
+}
+
 std::string framesSection(const Run& run) {
-    std::string h = "<h3>Frames: reference and every method, with |method − reference| below</h3>";
+    // The columns beside the reference: the first probes method (the methods come probes first) and
+    // the best baseline; a run without one of them shows what it has.
+    std::vector<std::size_t> shown, others;
+    const RunMethod* base = bestBaseline(run, "mae");
+    for (std::size_t k = 0; k < run.methods.size(); ++k) {
+        const bool lead = (k == 0 && isProbesMethod(run.methods[k].name)) || &run.methods[k] == base;
+        (lead || (shown.empty() && k + 1 == run.methods.size()) ? shown : others).push_back(k);
+    }
+    std::string h = "<h3>Frames: reference, probes and the best baseline, with |method − reference| below</h3>";
     for (std::size_t p = 0; p < run.picked.size(); ++p) {
         const RunFrame& f = run.frames[run.picked[p]];
-        const std::vector<Image>& pics = run.pictures[p];
-        const Image& ref = pics[0];
+        const Image& ref = run.pictures[p][0];
         h += "<div class=\"frame\"><div class=\"note\">frame <b>" + std::to_string(f.number) + "</b> (" +
-             escape(f.name) + ")</div><div class=\"strip\">";
+             escape(f.name) + ")</div><div class=\"trio\">";
         h += "<figure>" + imgTag(greyUri(ref), ref.width, ref.height, "reference, frame " + std::to_string(f.number)) +
              "<figcaption><b>reference</b> (Embree)</figcaption>" +
              legendBar(run.id + "-heat" + std::to_string(p), true, linearTicks(0.0, report::kHeatMax),
                        format("|AO error| in the maps, one scale for all (%.2f and above: pale yellow)",
                               report::kHeatMax)) +
              "</figure>";
-        for (std::size_t k = 0; k < run.methods.size(); ++k) {
-            const RunMethod& m = run.methods[k];
-            const Image& a = pics[1 + k];
-            const std::string label = methodLabel(m);
-            h += "<figure>" + imgTag(greyUri(a), a.width, a.height, label + ", frame " + std::to_string(f.number)) +
-                 imgTag(heatUri(absDiff(a, ref)), a.width, a.height,
-                        label + " error, frame " + std::to_string(f.number)) +
-                 "<figcaption><span class=\"swatch\" style=\"background:" + methodColour(k) + "\"></span><b>" +
-                 escape(label) + "</b> · MAE " + fmtNum(m.mae[run.picked[p]], "%.4f") + "</figcaption></figure>";
+        for (const std::size_t k : shown) h += methodFigure(run, k, p);
+        h += "</div>";
+        if (!others.empty()) {
+            std::string names;
+            for (const std::size_t k : others) names += (names.empty() ? "" : ", ") + methodLabel(run.methods[k]);
+            h += "<details class=\"more\"><summary>" + std::to_string(others.size()) + " more: " + escape(names) +
+                 "</summary><div class=\"trio\">";
+            for (const std::size_t k : others) h += methodFigure(run, k, p);
+            h += "</div></details>";
         }
-        h += "</div></div>";
+        h += "</div>";
     }
     return h;
 }
@@ -594,7 +622,7 @@ std::string runSection(Run& run) {
     const std::string scene = jsonString(run.info, "scene", run.dir.string());
     std::string h = "<section class=\"run\" id=\"" + run.id + "\"><h2>" + escape(fs::path(scene).filename().string()) +
                     "</h2><div class=\"note\">" + escape(scene) + " · run " + escape(run.dir.string()) + "</div>";
-    h += headline(run);
+    h += runFacts(run) + metricsTable(run) + verdicts(run);
     h += framesSection(run);
     run.pictures.clear();  // done with them: several runs need not all be in memory at once
     h += chartsSection(run);
