@@ -170,6 +170,60 @@ Measured measure(const Args& a, const Scene& scene, const CameraPath& path, std:
     return m;
 }
 
+// `count` synthetic probes at `res`² around the walk, written to `file` (the timing needs no real bake).
+void writeSyntheticCache(const std::filesystem::path& file, const CacheParams& params, const Scene& scene,
+                         const CameraPath& path, std::size_t count, int res) {
+    const auto start = std::chrono::steady_clock::now();
+    // Within 3 R of the walk, with no ray test keeping them out of walls (the timing does not need one).
+    const float spread = 3.0f * params.radius;
+    const std::vector<glm::vec3> positions =
+        scatterAroundWalk(path, count, [spread](const glm::vec3&, const glm::vec3&) { return spread; });
+    const std::vector<ProbeRecord> payloads = syntheticPayloads(params, 1.1f * scene.bounds.diagonal(), 8);
+    writeCache(file, params, syntheticProbeViews(positions, payloads));
+    spdlog::info("cubeao-gpubench: {} synthetic probes at {}² written in {:.0f} ms ({:.0f} MB)", count, res,
+                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(),
+                 double(fs::file_size(file)) / 1e6);
+}
+
+// One method's row: its pass (the probes over the synthetic cache, or the baseline), its timed frames,
+// printed as a line of the table.
+nlohmann::json benchMethod(const Args& a, const std::string& method, const Scene& scene, const CameraPath& path,
+                           const CacheReader& cache, const SsaoSettings& gtao, bool pipelineClock) {
+    nlohmann::json row = {{"method", method}};
+    std::unique_ptr<AoPass> pass;
+    BlurSettings blur;
+    if (method == "probes") {
+        ProbeProjectionSettings settings;
+        settings.residency = ResidencySettings::fromMib(a.gpuBudgetMb, a.uploadMb);
+        pass = makeAoPass(gtao, &cache, scene.positions, scene.indices, settings, true);
+        const auto& p = dynamic_cast<const ProbeProjectionPass&>(*pass);
+        blur = probeBlurSettings(a.res, a.height, PinholeCamera(path, 0, a.width, a.height).tanHalfFovY);
+        row["probes"] = a.probes;
+        row["res"] = a.res;
+        row["gpu_bytes"] = p.gpuBytes();
+    } else {
+        pass = makeAoPass(gtao, nullptr, scene.positions, scene.indices);
+    }
+    const Measured m = measure(a, scene, path, std::move(pass), blur, pipelineClock);
+    const double n = double(std::max(m.sampled, 1));
+    row["timings_ms"] = cli::timingsJson(m.timings);
+    row["timed_frames"] = m.timings.size();
+    row["fetches_per_pixel"] = m.fetches / n;
+    row["counted_frames"] = m.sampled;
+    if (method == "probes") row["uncovered_fraction"] = m.uncovered / n, row["residency"] = m.residency;
+    if (!m.issueMs.empty()) {
+        row["issue_ms"] = {{"median", median(m.issueMs)},
+                           {"max", *std::max_element(m.issueMs.begin(), m.issueMs.end())}};
+        row["dropped_timings"] = m.dropped;
+    }
+    const nlohmann::json& t = row["timings_ms"];
+    std::printf("%-7s %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f %11.1f %10s\n", method.c_str(), t["gbuffer"].get<double>(),
+                t["ao"].get<double>(), t["blur"].get<double>(), t["composite"].get<double>(),
+                t["ao_blur"].get<double>(), t["gpu_total"].get<double>(), row["fetches_per_pixel"].get<double>(),
+                m.issueMs.empty() ? "-" : std::to_string(median(m.issueMs)).substr(0, 6).c_str());
+    return row;
+}
+
 int run(const Args& a) {
     checkUsage(a);
     Scene scene = makeBuiltinScene(a.scene);
@@ -191,63 +245,18 @@ int run(const Args& a) {
     const ScratchDir temp("cubeao-gpubench");
     const fs::path file = temp.path / "synthetic.cubeao";
     const CacheParams params = syntheticParams(scene, a.res);
-    const float radius = params.radius;
-    {
-        const auto start = std::chrono::steady_clock::now();
-        // Within 3 R of the walk, with no ray test keeping them out of walls (the timing does not need one).
-        const float spread = 3.0f * radius;
-        const std::vector<glm::vec3> positions =
-            scatterAroundWalk(path, a.probes, [spread](const glm::vec3&, const glm::vec3&) { return spread; });
-        const std::vector<ProbeRecord> payloads = syntheticPayloads(params, 1.1f * scene.bounds.diagonal(), 8);
-        writeCache(file, params, syntheticProbeViews(positions, payloads));
-        spdlog::info("cubeao-gpubench: {} synthetic probes at {}² written in {:.0f} ms ({:.0f} MB)", a.probes, a.res,
-                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(),
-                     double(fs::file_size(file)) / 1e6);
-    }
+    writeSyntheticCache(file, params, scene, path, a.probes, a.res);
     const CacheReader cache(file);
     SsaoSettings gtao;
     gtao.method = SsaoMethod::Gtao;
-    gtao.radius = radius;
+    gtao.radius = params.radius;
     gtao = resolveSsaoSettings(gtao, scene.defaultRadius());
 
     nlohmann::json methods = nlohmann::json::object();
     std::printf("%-7s %9s %9s %9s %9s %9s %9s %11s %10s\n", "method", "G-buffer", "AO", "blur", "composite",
                 "AO+blur", "frame", "fetches/px", "issue ms");
-    for (const std::string& method : a.methods) {
-        nlohmann::json row = {{"method", method}};
-        std::unique_ptr<AoPass> pass;
-        BlurSettings blur;
-        if (method == "probes") {
-            ProbeProjectionSettings settings;
-            settings.residency = ResidencySettings::fromMib(a.gpuBudgetMb, a.uploadMb);
-            pass = makeAoPass(gtao, &cache, scene.positions, scene.indices, settings, true);
-            const auto& p = dynamic_cast<const ProbeProjectionPass&>(*pass);
-            blur = probeBlurSettings(a.res, a.height, PinholeCamera(path, 0, a.width, a.height).tanHalfFovY);
-            row["probes"] = a.probes;
-            row["res"] = a.res;
-            row["gpu_bytes"] = p.gpuBytes();
-        } else {
-            pass = makeAoPass(gtao, nullptr, scene.positions, scene.indices);
-        }
-        const Measured m = measure(a, scene, path, std::move(pass), blur, pipelineClock);
-        const double n = double(std::max(m.sampled, 1));
-        row["timings_ms"] = cli::timingsJson(m.timings);
-        row["timed_frames"] = m.timings.size();
-        row["fetches_per_pixel"] = m.fetches / n;
-        row["counted_frames"] = m.sampled;
-        if (method == "probes") row["uncovered_fraction"] = m.uncovered / n, row["residency"] = m.residency;
-        if (!m.issueMs.empty()) {
-            row["issue_ms"] = {{"median", median(m.issueMs)},
-                               {"max", *std::max_element(m.issueMs.begin(), m.issueMs.end())}};
-            row["dropped_timings"] = m.dropped;
-        }
-        const nlohmann::json& t = row["timings_ms"];
-        std::printf("%-7s %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f %11.1f %10s\n", method.c_str(), t["gbuffer"].get<double>(),
-                    t["ao"].get<double>(), t["blur"].get<double>(), t["composite"].get<double>(),
-                    t["ao_blur"].get<double>(), t["gpu_total"].get<double>(), row["fetches_per_pixel"].get<double>(),
-                    m.issueMs.empty() ? "-" : std::to_string(median(m.issueMs)).substr(0, 6).c_str());
-        methods[method] = row;
-    }
+    for (const std::string& method : a.methods)
+        methods[method] = benchMethod(a, method, scene, path, cache, gtao, pipelineClock);
 
     nlohmann::json targets = nlohmann::json::object();
     if (methods.contains("probes")) {

@@ -101,6 +101,46 @@ Ordered formatJson(TexelFormat f, std::uint32_t res) {
     return {{"format", c.name}, {"dxgi_format", c.dxgi}, {"vk_format", c.vk}, {"res", res}};
 }
 
+// manifest.json: the source cache (checksummed), the cube convention, both textures' formats and how to
+// decode them, the bake's parameters, and each probe's files.
+Ordered exportManifest(const std::string& container, const std::string& cacheFile, const CacheReader& cache,
+                       TexelFormat aoFormat, TexelFormat distanceFormat, Ordered probes) {
+    const CacheParams& p = cache.params();
+    Ordered distance = formatJson(distanceFormat, p.depthRes);
+    if (distanceFormat == TexelFormat::R16Unorm) {
+        distance["units"] = "max_distance";
+        distance["decode"] = "distance = value / 65535 * max_distance of the probe (world units); 0: nothing there";
+    } else {
+        distance["units"] = "world";
+        distance["decode"] = "distance in world units; 0: nothing there";
+    }
+    distance["filter"] = "each texel: the nearest non-empty distance of the res/depth_res square of AO texels it covers";
+    Ordered ao = formatJson(aoFormat, p.res);
+    ao["channels"] = aoFormat == TexelFormat::Bc5Unorm ? Ordered{{"r", "ao, 1 = open"}, {"g", "confidence"}}
+                                                       : Ordered{{"r", "ao, 1 = open"}};
+    Ordered bake = bakeParamsJson<Ordered>(p);
+    bake["origin"] = {p.origin.x, p.origin.y, p.origin.z};
+    return {
+        {"cubeao_export", kManifestVersion},
+        {"container", container},
+        {"source",
+         {{"cache", fs::absolute(cacheFile).lexically_normal().string()},
+          {"format_version", cache.formatVersion()},
+          {"file_bytes", cache.fileSize()},
+          {"file_checksum", hashToString(fileChecksum(cache))},
+          {"checksum_algorithm", "XXH3-64 of every byte before the last 8 (docs/FORMAT.md)"},
+          {"scene_hash", hashToString(p.sceneHash)}}},
+        {"cube",
+         {{"faces", {"+x", "-x", "+y", "-y", "+z", "-z"}},
+          {"orientation", "GL/D3D/Vulkan cube map convention: sample with the direction from the probe, world axes, "
+                          "no flip"},
+          {"mip_levels", 1}}},
+        {"ao", ao},
+        {"distance", distance},
+        {"bake", bake},
+        {"probes", std::move(probes)}};
+}
+
 void run(const ExportArgs& a) {
     // Command line first, before any file is opened.
     if (a.format != "dds" && a.format != "ktx2")
@@ -151,39 +191,7 @@ void run(const ExportArgs& a) {
         progress.advance();
     }
 
-    Ordered distance = formatJson(distanceFormat, p.depthRes);
-    if (distanceFormat == TexelFormat::R16Unorm) {
-        distance["units"] = "max_distance";
-        distance["decode"] = "distance = value / 65535 * max_distance of the probe (world units); 0: nothing there";
-    } else {
-        distance["units"] = "world";
-        distance["decode"] = "distance in world units; 0: nothing there";
-    }
-    distance["filter"] = "each texel: the nearest non-empty distance of the res/depth_res square of AO texels it covers";
-    Ordered ao = formatJson(aoFormat, p.res);
-    ao["channels"] = aoFormat == TexelFormat::Bc5Unorm ? Ordered{{"r", "ao, 1 = open"}, {"g", "confidence"}}
-                                                       : Ordered{{"r", "ao, 1 = open"}};
-    Ordered bake = bakeParamsJson<Ordered>(p);
-    bake["origin"] = {p.origin.x, p.origin.y, p.origin.z};
-    const Ordered manifest = {
-        {"cubeao_export", kManifestVersion},
-        {"container", a.format},
-        {"source",
-         {{"cache", fs::absolute(a.cache).lexically_normal().string()},
-          {"format_version", cache.formatVersion()},
-          {"file_bytes", cache.fileSize()},
-          {"file_checksum", hashToString(fileChecksum(cache))},
-          {"checksum_algorithm", "XXH3-64 of every byte before the last 8 (docs/FORMAT.md)"},
-          {"scene_hash", hashToString(p.sceneHash)}}},
-        {"cube",
-         {{"faces", {"+x", "-x", "+y", "-y", "+z", "-z"}},
-          {"orientation", "GL/D3D/Vulkan cube map convention: sample with the direction from the probe, world axes, "
-                          "no flip"},
-          {"mip_levels", 1}}},
-        {"ao", ao},
-        {"distance", distance},
-        {"bake", bake},
-        {"probes", probes}};
+    const Ordered manifest = exportManifest(a.format, a.cache, cache, aoFormat, distanceFormat, std::move(probes));
     const std::string text = manifest.dump(2) + "\n";
     staging.write("manifest.json", std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
     staging.commit();

@@ -46,6 +46,60 @@ double peakMemoryMb() {
     return double(usage.ru_maxrss) / 1024.0;  // Linux reports kilobytes
 }
 
+// No probe placed: say which of the usual causes applies: no free space at all (a closed solid, or faces
+// whose winding flips, which the back-face inside test reads as inside), or free space farther from every
+// surface than a probe of this face size covers.
+[[noreturn]] void throwNoProbes(const std::string& m, const Scene& scene, const placement::PlacementScene& ps,
+                                const placement::PlaceSettings& settings) {
+    const std::size_t free = ps.freeSpace().candidates().size();
+    std::string why = "is the scene open on every side, or --voxel/--clearance too large?";
+    const WindingCheck winding = checkWinding(scene);
+    if (free == 0 && winding.flippedShare() > 0.01) {
+        char share[32];
+        std::snprintf(share, sizeof share, "%.1f %%", 100.0 * winding.flippedShare());
+        why = "the faces' winding is inconsistent (" + std::string(share) + " of shared edges are run the same way "
+              "by both faces), so free space reads as inside geometry; orient the faces consistently";
+    } else if (free > 0) {
+        why = "a probe covers a surface only within " + std::to_string(ps.criterion().maxDistance()) +
+              " of it at --res " + std::to_string(settings.res) + " (a texel at most R/" +
+              std::to_string(int(settings.texelsPerRadius)) + "): raise --res or lower --texels-per-radius";
+    }
+    throw Error("place --method " + m + ": no probe placed (" + std::to_string(free) + " free voxels; " +
+                std::to_string(std::count(ps.relevant().begin(), ps.relevant().end(), 1)) +
+                " relevant samples): " + why);
+}
+
+// probes.json's fields beside the probes (probe_set.h): the method, its settings, the walk, the figures
+// the placement predicts, free space's counts, each probe's coverage gain, the stages' times.
+nlohmann::json placementReport(const std::string& m, const placement::PlacementScene& ps,
+                               const placement::Placement& result, const nlohmann::json& camera,
+                               const nlohmann::json& coverageGains) {
+    nlohmann::json timings = nlohmann::json::object(), figures = nlohmann::json::object();
+    for (const auto& [stage, seconds] : result.timings) timings[stage] = seconds;
+    for (const auto& [name, value] : result.figures) figures[name] = value;
+    const placement::FreeSpace::Stats& fs = ps.freeSpace().stats();
+    return {
+        {"method", m},
+        {"params", ps.settings().toJson()},
+        {"camera", camera},  // null: none
+        // Named for what they are (issue 31): the error model's walk MAE, the relevant area some probe
+        // sees (what the projection serves), and the fine coverage (a texel at most R / texels-per-radius).
+        {"predicted_mae", result.predictedMae},
+        {"served", result.served},
+        {"coverage", result.coverage},
+        {"coverage2", result.coverage2},
+        {"relevant_area", result.relevantArea},
+        {"stop", result.stop.empty() ? nlohmann::json() : nlohmann::json(result.stop)},
+        {"free_space",
+         {{"voxels", fs.voxels}, {"candidates", fs.candidates}, {"reached", fs.reached}, {"too_close", fs.tooClose},
+          {"inside_by_rays", fs.insideByRays}, {"inside_closed", fs.insideClosed}, {"outside_seeds", fs.outsideSeeds},
+          {"eye_seeds", fs.seeds}, {"eyes_not_free", fs.seedsNotFree}, {"reversed_faces", fs.reversedFaces},
+          {"closed_solids", fs.closedSolids}, {"closed_rooms", fs.closedRooms}, {"open_components", fs.openComponents}}},
+        {"coverage_gains", coverageGains},
+        {"figures", figures},
+        {"timings_s", timings}};
+}
+
 void run(PlaceArgs a) {
     if (a.device != "gpu" && a.device != "cpu") throw UsageError("--device \"" + a.device + "\": expected gpu or cpu");
     const placement::Method method = placement::parseMethod(a.method);
@@ -87,27 +141,7 @@ void run(PlaceArgs a) {
         throw Error("place --method voting: --target-error " + std::to_string(a.settings.targetError) +
                     " is met without any probe (screen space alone is predicted at " +
                     std::to_string(result.predictedMae) + "): nothing to place; lower it");
-    if (result.probes.empty()) {
-        // Say which of the usual causes applies: no free space at all (a closed solid, or faces whose
-        // winding flips, which the back-face inside test reads as inside), or free space farther from
-        // every surface than a probe of this face size covers.
-        const std::size_t free = ps.freeSpace().candidates().size();
-        std::string why = "is the scene open on every side, or --voxel/--clearance too large?";
-        const WindingCheck winding = checkWinding(scene);
-        if (free == 0 && winding.flippedShare() > 0.01) {
-            char share[32];
-            std::snprintf(share, sizeof share, "%.1f %%", 100.0 * winding.flippedShare());
-            why = "the faces' winding is inconsistent (" + std::string(share) + " of shared edges are run the same way "
-                  "by both faces), so free space reads as inside geometry; orient the faces consistently";
-        } else if (free > 0) {
-            why = "a probe covers a surface only within " + std::to_string(ps.criterion().maxDistance()) +
-                  " of it at --res " + std::to_string(a.settings.res) + " (a texel at most R/" +
-                  std::to_string(int(a.settings.texelsPerRadius)) + "): raise --res or lower --texels-per-radius";
-        }
-        throw Error("place --method " + m + ": no probe placed (" + std::to_string(free) + " free voxels; " +
-                    std::to_string(std::count(ps.relevant().begin(), ps.relevant().end(), 1)) +
-                    " relevant samples): " + why);
-    }
+    if (result.probes.empty()) throwNoProbes(m, scene, ps, a.settings);
 
     std::vector<ProbeSpec> probes;
     // Each probe's "gain" is the predicted walk MAE it removed after the ones before it (issue 31); the
@@ -117,30 +151,8 @@ void run(PlaceArgs a) {
         probes.push_back({p.position, p.errorRemoved});
         coverageGains.push_back(p.gain);
     }
-    nlohmann::json timings = nlohmann::json::object(), figures = nlohmann::json::object();
-    for (const auto& [stage, seconds] : result.timings) timings[stage] = seconds;
-    for (const auto& [name, value] : result.figures) figures[name] = value;
-    const placement::FreeSpace::Stats& fs = ps.freeSpace().stats();
-    const nlohmann::json report{
-        {"method", m},
-        {"params", ps.settings().toJson()},
-        {"camera", path ? nlohmann::json(a.camera.empty() ? a.scene : a.camera) : nlohmann::json()},  // null: none
-        // Named for what they are (issue 31): the error model's walk MAE, the relevant area some probe
-        // sees (what the projection serves), and the fine coverage (a texel at most R / texels-per-radius).
-        {"predicted_mae", result.predictedMae},
-        {"served", result.served},
-        {"coverage", result.coverage},
-        {"coverage2", result.coverage2},
-        {"relevant_area", result.relevantArea},
-        {"stop", result.stop.empty() ? nlohmann::json() : nlohmann::json(result.stop)},
-        {"free_space",
-         {{"voxels", fs.voxels}, {"candidates", fs.candidates}, {"reached", fs.reached}, {"too_close", fs.tooClose},
-          {"inside_by_rays", fs.insideByRays}, {"inside_closed", fs.insideClosed}, {"outside_seeds", fs.outsideSeeds},
-          {"eye_seeds", fs.seeds}, {"eyes_not_free", fs.seedsNotFree}, {"reversed_faces", fs.reversedFaces},
-          {"closed_solids", fs.closedSolids}, {"closed_rooms", fs.closedRooms}, {"open_components", fs.openComponents}}},
-        {"coverage_gains", coverageGains},
-        {"figures", figures},
-        {"timings_s", timings}};
+    const nlohmann::json report = placementReport(
+        m, ps, result, path ? nlohmann::json(a.camera.empty() ? a.scene : a.camera) : nlohmann::json(), coverageGains);
     writeProbeSet(a.out, probes, report, scene.origin);
     std::printf("place %s: %zu probes, predicted MAE %.4f, served %.1f %% of %.4g relevant area, fine coverage %.1f %% "
                 "(twice: %.1f %%)%s -> %s\n",

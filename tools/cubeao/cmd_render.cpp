@@ -132,26 +132,30 @@ struct PixelShares {
     }
 };
 
+// The probes' cache for `scene`; the probes carry their own R, which `ssao` takes (a different --radius
+// would compare them against the wrong AO).
+std::unique_ptr<CacheReader> openProbeCache(const std::string& file, const Scene& scene, SsaoSettings& ssao) {
+    auto cache = std::make_unique<CacheReader>(file);
+    cache->expectScene(scene.hash);
+    if (ssao.radius > 0.0f && ssao.radius != cache->params().radius)
+        throw UsageError("--radius " + std::to_string(ssao.radius) + ": " + file + " was baked with R = " +
+                         std::to_string(cache->params().radius));
+    ssao.radius = cache->params().radius;
+    return cache;
+}
+
 void run(const RenderArgs& a) {
     PassSettings settings = usageChecked(a);
     const Scene scene = loadScene(a.scene);
     const CameraPath path = resolveCameraPath(a.camera, scene);
     const FrameRange range = parseFrameRange(a.frames, path.frames.size());
-    std::unique_ptr<CacheReader> cache;
-    if (a.method == "probes") {
-        cache = std::make_unique<CacheReader>(a.cache);
-        cache->expectScene(scene.hash);
-        // The probes carry their own R; a different --radius would compare them against the wrong AO.
-        if (settings.ssao.radius > 0.0f && settings.ssao.radius != cache->params().radius)
-            throw UsageError("--radius " + std::to_string(settings.ssao.radius) + ": " + a.cache + " was baked with R = " +
-                             std::to_string(cache->params().radius));
-        settings.ssao.radius = cache->params().radius;
-    }
+    std::unique_ptr<CacheReader> cache = a.method == "probes" ? openProbeCache(a.cache, scene, settings.ssao) : nullptr;
     const SsaoSettings ssao = resolveSsaoSettings(settings.ssao, scene.defaultRadius());
     int w = 0, h = 0;
     resolveImageSize(a.width, a.height, path, w, h);
     if (cache && !a.blur)
-        settings.blur = probeBlurSettings(int(cache->params().res), h, CameraView::fromPath(path, range.begin, w, h).tanHalfFovY);
+        settings.blur =
+            probeBlurSettings(int(cache->params().res), h, CameraView::fromPath(path, range.begin, w, h).tanHalfFovY);
     fs::create_directories(a.out);
 
     const gl::HeadlessContext context = gl::HeadlessContext::create();
@@ -159,9 +163,10 @@ void run(const RenderArgs& a) {
                  scene.triangleCount(), a.method, range.begin, range.end, w, h, ssao.radius,
                  context.renderer());
     const CompositeSettings composite = previewComposite(scene.up, a.alpha);
-    FrameRenderer renderer(scene.positions, scene.indices,
-                           makeAoPass(ssao, cache.get(), scene.positions, scene.indices, settings.probes, a.fallback == "gtao"), settings.blur,
-                           composite);
+    FrameRenderer renderer(
+        scene.positions, scene.indices,
+        makeAoPass(ssao, cache.get(), scene.positions, scene.indices, settings.probes, a.fallback == "gtao"),
+        settings.blur, composite);
     auto* projection = dynamic_cast<ProbeProjectionPass*>(&renderer.method());
     PixelShares shares;
 
@@ -207,8 +212,7 @@ void run(const RenderArgs& a) {
         result["cache"] = a.cache;
         result["probes"] = cache->probeCount();
         result["residency"] = residencyJson(*projection);
-        result["residency"]["gpu_budget_mb"] = a.gpuBudgetMb;
-        result["residency"]["fallback"] = a.fallback;
+        result["residency"]["gpu_budget_mb"] = a.gpuBudgetMb, result["residency"]["fallback"] = a.fallback;
     }
     writeFileDurably(fs::path(a.out) / "render.json", result.dump(1) + "\n");
     std::printf("render: %s, %zu frames -> %s; median ms: G-buffer %.2f, AO %.2f, blur %.2f, composite %.2f, "
