@@ -50,7 +50,7 @@ TEST(ProbeAtlas, EverySlotsPackedTileIsItsOwnTileInRowMajorOrder) {
         const ProbeAtlasLayout l = probeAtlasLayout(n, res, maxSize, 2048);
         std::set<std::tuple<int, int, int>> seen;
         for (std::uint32_t slot = 0; slot < n; ++slot) {
-            const std::uint32_t tile = l.tile(slot);
+            const std::uint32_t tile = l.tile(cubeao::SlotId{slot});
             ASSERT_NE(tile, cubeao::kernel::kNoSlot);
             const glm::ivec3 c = cubeao::kernel::atlasTileCorner(tile, res);
             const int inPage = int(slot) % l.tilesPerPage();

@@ -183,7 +183,7 @@ TEST_F(ResidencyGl, ASmallBudgetEvictsAndReloadsAndAReloadedProbeGivesIdenticalP
         for (std::size_t c = 0; c < counts.size(); ++c) {
             std::uint32_t resident = 0;
             for (const std::uint32_t id : projection.grid().cellCandidates(c))
-                if (id != kernel::kNoProbe) resident += projection.residency().isResident(id) ? 1u : 0u;
+                if (id != kernel::kNoProbe) resident += projection.residency().isResident(ProbeId{id}) ? 1u : 0u;
             ASSERT_EQ(counts[c], resident) << "cell " << c;
         }
     };

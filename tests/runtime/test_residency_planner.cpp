@@ -11,21 +11,30 @@
 
 #include "cubeao/core/error.h"
 #include "cubeao/runtime/residency_planner.h"
+#include "probe_id_print.h"
 
 namespace {
 
+using cubeao::ProbeId;
 using cubeao::ResidencyBudget;
 using cubeao::ResidencyHysteresis;
 using cubeao::ResidencyPlanner;
 using cubeao::residencyPool;
+using cubeao::SlotId;
 using Load = ResidencyPlanner::Load;
-constexpr std::uint32_t kNone = ResidencyPlanner::kNone;
 constexpr std::size_t kProbe = 1000;  // bytes a probe
+
+std::vector<ProbeId> ids(const std::vector<std::uint32_t>& raw) {
+    std::vector<ProbeId> out;
+    for (const std::uint32_t i : raw) out.push_back(ProbeId{i});
+    return out;
+}
 
 // Plans and applies one frame (every load's bytes readable); returns its loads in order.
 std::vector<Load> runFrame(ResidencyPlanner& planner, const std::vector<std::uint32_t>& wanted, bool unbounded = false) {
     std::vector<Load> loads;
-    planner.beginFrame(wanted, unbounded);
+    const std::vector<ProbeId> typed = ids(wanted);
+    planner.beginFrame(typed, unbounded);
     while (const std::optional<Load> load = planner.next()) {
         planner.loaded(*load);
         loads.push_back(*load);
@@ -36,7 +45,7 @@ std::vector<Load> runFrame(ResidencyPlanner& planner, const std::vector<std::uin
 
 std::vector<std::uint32_t> probesOf(const std::vector<Load>& loads) {
     std::vector<std::uint32_t> ids;
-    for (const Load& l : loads) ids.push_back(l.probe);
+    for (const Load& l : loads) ids.push_back(index(l.probe));
     return ids;
 }
 
@@ -100,13 +109,13 @@ TEST(ResidencyPlanner, EachFrameLoadsAtMostTheUploadBoundAndReadsAheadWhatComesN
     std::vector<std::uint32_t> wanted;
     for (std::uint32_t i = 0; i < 12; ++i) wanted.push_back(11 - i);
     EXPECT_EQ(probesOf(runFrame(planner, wanted)), (std::vector<std::uint32_t>{11, 10}));
-    planner.beginFrame(wanted, false);
+    const std::vector<ProbeId> typed = ids(wanted);
+    planner.beginFrame(typed, false);
     std::vector<std::uint32_t> loaded;
-    while (const auto load = planner.next()) planner.loaded(*load), loaded.push_back(load->probe);
+    while (const auto load = planner.next()) planner.loaded(*load), loaded.push_back(index(load->probe));
     EXPECT_EQ(loaded, (std::vector<std::uint32_t>{9, 8}));
     // The next ⌊2 · 2.5⌋ = 5 wanted probes not resident, in order.
-    EXPECT_EQ(std::vector<std::uint32_t>(planner.readAhead().begin(), planner.readAhead().end()),
-              (std::vector<std::uint32_t>{7, 6, 5, 4, 3}));
+    EXPECT_EQ(std::vector<ProbeId>(planner.readAhead().begin(), planner.readAhead().end()), ids({7, 6, 5, 4, 3}));
     planner.endFrame();
     // Unbounded (a start, a cut): everything wanted in one frame.
     EXPECT_EQ(runFrame(planner, wanted, true).size(), 8u);
@@ -124,9 +133,9 @@ TEST(ResidencyPlanner, NoMoreResidentsThanSlotsAndWantedResidentsAreNeverEvicted
     see(planner, {0, 0, 0, 50, 50});
     const auto loads = runFrame(planner, {3, 4, 2});
     EXPECT_EQ(probesOf(loads), (std::vector<std::uint32_t>{3, 4}));
-    EXPECT_TRUE(planner.isResident(2));
+    EXPECT_TRUE(planner.isResident(ProbeId{2}));
     EXPECT_EQ(planner.resident(), 3u);
-    for (std::uint32_t s = 0; s < 3; ++s) EXPECT_EQ(planner.slotOf(planner.ownerOf(s)), s);
+    for (const SlotId s : {SlotId{0}, SlotId{1}, SlotId{2}}) EXPECT_EQ(planner.slotOf(planner.ownerOf(s)), s);
 }
 
 TEST(ResidencyPlanner, TheVictimIsTheLeastDemandedThenTheLeastRecentlyUsed) {
@@ -137,10 +146,10 @@ TEST(ResidencyPlanner, TheVictimIsTheLeastDemandedThenTheLeastRecentlyUsed) {
     // 3 never); 4, 5, 6 asked for by many.
     see(planner, {0, 9, 3, 0, 100, 100, 100});
     const auto loads = runFrame(planner, {4, 5, 6});
-    std::vector<std::uint32_t> evicted;
+    std::vector<ProbeId> evicted;
     for (const Load& l : loads) evicted.push_back(l.evicted);
-    EXPECT_EQ(evicted, (std::vector<std::uint32_t>{3, 0, 2}));
-    EXPECT_TRUE(planner.isResident(1));
+    EXPECT_EQ(evicted, ids({3, 0, 2}));
+    EXPECT_TRUE(planner.isResident(ProbeId{1}));
     EXPECT_EQ(planner.evictions(), 3u);
 }
 
@@ -156,8 +165,8 @@ TEST(ResidencyPlanner, AProbeInUseGivesWayOnlyToOneWantedClearlyMore) {
     EXPECT_TRUE(wantThree(19).empty());
     const auto loads = wantThree(20);
     ASSERT_EQ(loads.size(), 1u);
-    EXPECT_EQ(loads[0].probe, 3u);
-    EXPECT_NE(loads[0].evicted, kNone);
+    EXPECT_EQ(loads[0].probe, ProbeId{3});
+    EXPECT_NE(loads[0].evicted, ProbeId::None);
 }
 
 TEST(ResidencyPlanner, AProbeNoPixelAskedForDoesNotDisplaceOneJustLoaded) {
@@ -176,31 +185,31 @@ TEST(ResidencyPlanner, AProbeNoPixelAskedForDoesNotDisplaceOneJustLoaded) {
 TEST(ResidencyPlanner, AProbeWhoseBytesFailIsPassedOverAndTheNextTakesItsSlot) {
     ResidencyPlanner planner(2, kProbe, 10 * kProbe);
     planner.resizeProbes(3);
-    const std::vector<std::uint32_t> wanted = {0, 1};
+    const std::vector<ProbeId> wanted = ids({0, 1});
     planner.beginFrame(wanted, false);
     const auto first = planner.next();
     ASSERT_TRUE(first);
     planner.skipped(*first);
     const auto second = planner.next();
     ASSERT_TRUE(second);
-    EXPECT_EQ(second->probe, 1u);
+    EXPECT_EQ(second->probe, ProbeId{1});
     EXPECT_EQ(second->slot, first->slot);
     planner.loaded(*second);
     EXPECT_FALSE(planner.next());
-    EXPECT_FALSE(planner.isResident(0));
+    EXPECT_FALSE(planner.isResident(ProbeId{0}));
     EXPECT_EQ(planner.loads(), 1u);
 }
 
 TEST(ResidencyPlanner, ARemovedProbeFreesItsSlotAndIsNeverLoaded) {
     ResidencyPlanner planner = fullPool(2, 4);
-    EXPECT_EQ(planner.remove(1), 1u);
-    EXPECT_EQ(planner.remove(1), kNone);  // already gone
+    EXPECT_EQ(planner.remove(ProbeId{1}), SlotId{1});
+    EXPECT_EQ(planner.remove(ProbeId{1}), SlotId::None);  // already gone
     EXPECT_EQ(planner.resident(), 1u);
     const auto loads = runFrame(planner, {1, 2});
     ASSERT_EQ(loads.size(), 1u);
-    EXPECT_EQ(loads[0].probe, 2u);
-    EXPECT_EQ(loads[0].slot, 1u);
-    EXPECT_EQ(loads[0].evicted, kNone);
+    EXPECT_EQ(loads[0].probe, ProbeId{2});
+    EXPECT_EQ(loads[0].slot, SlotId{1});
+    EXPECT_EQ(loads[0].evicted, ProbeId::None);
 }
 
 TEST(ResidencyPlanner, GrownSlotsComeAfterTheOldOnesAndAreFilledFirstFree) {
@@ -210,10 +219,10 @@ TEST(ResidencyPlanner, GrownSlotsComeAfterTheOldOnesAndAreFilledFirstFree) {
     // 2 and 3 take the new slots; 4 finds the pool full of probes loaded a frame ago (kept: fresh).
     const auto loads = runFrame(planner, {2, 3, 4});
     ASSERT_EQ(loads.size(), 2u);
-    EXPECT_EQ(loads[0].slot, 2u);
-    EXPECT_EQ(loads[1].slot, 3u);
-    EXPECT_EQ(loads[1].evicted, kNone);
-    EXPECT_TRUE(planner.isResident(0) && planner.isResident(1) && !planner.isResident(4));
+    EXPECT_EQ(loads[0].slot, SlotId{2});
+    EXPECT_EQ(loads[1].slot, SlotId{3});
+    EXPECT_EQ(loads[1].evicted, ProbeId::None);
+    EXPECT_TRUE(planner.isResident(ProbeId{0}) && planner.isResident(ProbeId{1}) && !planner.isResident(ProbeId{4}));
 }
 
 }  // namespace

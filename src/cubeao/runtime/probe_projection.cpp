@@ -202,7 +202,7 @@ void ProbeProjectionPass::updateResidentLists() {
     std::vector<std::uint32_t> ids;
     std::vector<glm::vec3> positions;
     for (std::uint32_t id = 0; id < source_.size(); ++id)
-        if (residency_->isResident(id)) ids.push_back(id), positions.push_back(source_.position(id));
+        if (residency_->isResident(ProbeId{id})) ids.push_back(id), positions.push_back(source_.position(id));
     const std::vector<std::size_t> changed = nearest_->assign(ids, positions);
     uploadCells(nearestCells_.id(), nearest_->table(), std::size_t(nearest_->k()), changed);
 }
@@ -251,7 +251,7 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
     // A damaged probe is left out, as if it had been removed: the walk goes on without it.
     for (const ProbeResidency::Damaged& d : residency_->takeDamaged()) {
         spdlog::warn("{}; left out: its pixels take the other probes", d.what);
-        removeProbe(d.id);
+        removeProbe(index(d.id));
     }
     updateResidentLists();
     countResidentCandidates();

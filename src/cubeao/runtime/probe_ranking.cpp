@@ -12,8 +12,8 @@
 
 namespace cubeao {
 
-std::vector<std::uint32_t> ProbeRanking::wanted(const CameraView& view, const ProbeGrid& grid,
-                                                const ResidencyPlanner& residency) {
+std::vector<ProbeId> ProbeRanking::wanted(const CameraView& view, const ProbeGrid& grid,
+                                          const ResidencyPlanner& residency) {
     const glm::mat4 worldFromView = view.worldFromView();
     const glm::vec3 eye(worldFromView[3]);
     if (haveEye_) motion_ = 0.5f * motion_ + 0.5f * (eye - lastEye_);
@@ -23,9 +23,9 @@ std::vector<std::uint32_t> ProbeRanking::wanted(const CameraView& view, const Pr
     const std::size_t n = grid.probeCount();
     const float inf = std::numeric_limits<float>::infinity();
     score_.assign(n, inf);
-    std::vector<std::uint32_t> listed;
+    std::vector<ProbeId> listed;
     const auto list = [&](std::uint32_t id, float s) {
-        if (score_[id] == inf) listed.push_back(id);
+        if (score_[id] == inf) listed.push_back(ProbeId{id});
         score_[id] = std::min(score_[id], s);
     };
     const bool roomForAll = residency.slots() >= grid.liveProbes();
@@ -69,11 +69,11 @@ std::vector<std::uint32_t> ProbeRanking::wanted(const CameraView& view, const Pr
     // What the pixels asked for comes first, by how many asked; the rest by place.
     if (!roomForAll)
         for (std::uint32_t id = 0; id < n; ++id)
-            if (residency.demand(id) > 0 && score_[id] == inf) listed.push_back(id);
-    std::sort(listed.begin(), listed.end(), [&](std::uint32_t a, std::uint32_t b) {
+            if (residency.demand(ProbeId{id}) > 0 && score_[id] == inf) listed.push_back(ProbeId{id});
+    std::sort(listed.begin(), listed.end(), [&](ProbeId a, ProbeId b) {
         const std::uint32_t da = residency.demand(a), db = residency.demand(b);
         if (da != db) return da > db;
-        return score_[a] != score_[b] ? score_[a] < score_[b] : a < b;
+        return score_[index(a)] != score_[index(b)] ? score_[index(a)] < score_[index(b)] : a < b;
     });
     return listed;
 }

@@ -18,6 +18,7 @@
 
 #include "cubeao/runtime/camera_view.h"
 #include "cubeao/runtime/probe_grid.h"
+#include "cubeao/runtime/probe_id.h"
 #include "cubeao/runtime/residency_planner.h"
 
 namespace cubeao {
@@ -28,7 +29,7 @@ public:
 
     // This frame's wanted probes (live ones of `grid`, plus those the pixels asked for), best first.
     // Each call is a frame: the eye's motion is smoothed over the calls.
-    std::vector<std::uint32_t> wanted(const CameraView& view, const ProbeGrid& grid, const ResidencyPlanner& residency);
+    std::vector<ProbeId> wanted(const CameraView& view, const ProbeGrid& grid, const ResidencyPlanner& residency);
 
 private:
     float lookahead_;

@@ -24,7 +24,6 @@ constexpr std::size_t kStagingRegions = 2;
 constexpr std::size_t kDefaultUploadBytes = std::size_t(8) << 20;
 constexpr std::size_t kReleaseBytes = std::size_t(64) << 20;  // unbounded updates drop cache pages this often
 constexpr std::uint32_t kNoSlot = kernel::kNoSlot;
-constexpr std::uint32_t kNoProbe = kernel::kNoProbe;
 
 GLenum depthInternalFormat(DepthFormat f) {
     return f == DepthFormat::R16Unorm ? GL_R16 : f == DepthFormat::R16Float ? GL_R16F : GL_R32F;
@@ -41,7 +40,7 @@ std::size_t feedbackWords(std::size_t probes) { return std::max<std::size_t>(1, 
 
 // Texel corner (x, y) and first layer of slot `slot`'s six faces in an atlas of size² tiles: where
 // project.comp's atlasTexel reads them.
-glm::ivec3 slotCorner(const ProbeAtlasLayout& l, std::uint32_t slot, int size) {
+glm::ivec3 slotCorner(const ProbeAtlasLayout& l, SlotId slot, int size) {
     return kernel::atlasTileCorner(l.tile(slot), size);
 }
 
@@ -186,8 +185,9 @@ void ProbeResidency::growAtlas(std::size_t slots, const ProbeSource& source) {
     const ResidencyPool pool = poolFor(0, 0, std::max(slots, 2 * planner_.slots()));  // no budget: exactly these
     allocateAtlas(pool);
     planner_.growSlots(pool.slots);
-    for (std::uint32_t s = 0; s < planner_.slots(); ++s) {
-        if (planner_.ownerOf(s) == kNoProbe) continue;
+    for (std::uint32_t i = 0; i < planner_.slots(); ++i) {
+        const SlotId s{i};
+        if (planner_.ownerOf(s) == ProbeId::None) continue;
         for (const auto& [from, to, size] : {std::tuple(oldAo.id(), ao_.id(), int(params_.res)),
                                              std::tuple(oldDistance.id(), distance_.id(), int(params_.depthRes))}) {
             const glm::ivec3 a = slotCorner(old, s, size), b = slotCorner(atlas_, s, size);
@@ -214,14 +214,15 @@ void ProbeResidency::ensureCapacity(std::size_t probes) {
     glNamedBufferStorage(staging_->demand.id(), GLsizeiptr(staging_->words * 4), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
-void ProbeResidency::writeEntry(std::uint32_t id, const ProbeSource& source) {
+void ProbeResidency::writeEntry(ProbeId id, const ProbeSource& source) {
     kernel::ProbeEntry e{};
-    e.position = source.position(id);
-    e.distanceScale = source.distanceScale(id);
-    e.slot = planner_.slotOf(id);
-    e.tile = e.slot == kNoSlot ? kNoSlot : atlas_.tile(e.slot);
+    e.position = source.position(index(id));
+    e.distanceScale = source.distanceScale(index(id));
+    const SlotId slot = planner_.slotOf(id);
+    e.slot = index(slot);
+    e.tile = slot == SlotId::None ? kNoSlot : atlas_.tile(slot);
     ++residentVersion_;  // called whenever a probe's slot changes
-    glNamedBufferSubData(table_.id(), GLintptr(id * sizeof e), sizeof e, &e);
+    glNamedBufferSubData(table_.id(), GLintptr(index(id) * sizeof e), sizeof e, &e);
 }
 
 void ProbeResidency::syncProbes(const ProbeSource& source) {
@@ -243,7 +244,7 @@ void ProbeResidency::syncProbes(const ProbeSource& source) {
                              GLsizeiptr(entries.size() * sizeof(kernel::ProbeEntry)), entries.data());
     }
     for (std::uint32_t id = 0; id < planner_.probes(); ++id)  // removed probes leave their slots
-        if (!source.isLive(id) && planner_.remove(id) != kNoSlot) writeEntry(id, source);
+        if (!source.isLive(id) && planner_.remove(ProbeId{id}) != SlotId::None) writeEntry(ProbeId{id}, source);
 }
 
 void ProbeResidency::readFeedback() {
@@ -251,7 +252,7 @@ void ProbeResidency::readFeedback() {
         planner_.feedback(slot->data.first(std::min(staging_->words, slot->data.size())), slot->tag);
 }
 
-void ProbeResidency::upload(const ProbeView& p, std::uint32_t slot, bool direct) {
+void ProbeResidency::upload(const ProbeView& p, SlotId slot, bool direct) {
     const int res = int(params_.res), depthRes = int(params_.depthRes);
     const glm::ivec3 a = slotCorner(atlas_, slot, res), d = slotCorner(atlas_, slot, depthRes);
     const void* ao = p.aoConfidence.data();
@@ -273,7 +274,7 @@ void ProbeResidency::upload(const ProbeView& p, std::uint32_t slot, bool direct)
     ++stats_.frameUploads;
 }
 
-void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint32_t> wanted, bool unbounded) {
+void ProbeResidency::update(const ProbeSource& source, std::span<const ProbeId> wanted, bool unbounded) {
     const auto start = std::chrono::steady_clock::now();
     readFeedback();
     stats_.frameUploads = 0, stats_.frameUploadBytes = 0;
@@ -292,8 +293,8 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
         // is freed.
         ProbeView bytes;
         try {
-            source.prefetch(load->probe);  // one read of its pages, if the frames before did not ask already
-            bytes = source.view(load->probe);
+            source.prefetch(index(load->probe));  // one read of its pages, if the frames before did not ask already
+            bytes = source.view(index(load->probe));
         } catch (const Error& e) {
             damaged_.push_back({load->probe, e.what()});
             ++stats_.damaged;
@@ -301,7 +302,7 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
             continue;
         }
         planner_.loaded(*load);
-        if (load->evicted != kNoProbe) writeEntry(load->evicted, source);
+        if (load->evicted != ProbeId::None) writeEntry(load->evicted, source);
         upload(bytes, load->slot, unbounded);
         // An unbounded update (the first frame, a cut) reads every probe it loads straight from the
         // mapping: drop the pages every kReleaseBytes, or the whole pool's worth stays resident
@@ -312,7 +313,7 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const std::uint
         }
         writeEntry(load->probe, source);
     }
-    for (const std::uint32_t id : planner_.readAhead()) source.prefetch(id);  // in memory when their frame comes
+    for (const ProbeId id : planner_.readAhead()) source.prefetch(index(id));  // in memory when their frame comes
     glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
     if (stats_.frameUploads > 0) source.releaseAll();  // the bytes are staged (or copied by the driver)
     if (!unbounded && stats_.frameUploads > 0) staging_->upload.fence(region);

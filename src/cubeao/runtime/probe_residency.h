@@ -123,21 +123,21 @@ public:
     // loads the `wanted` probes (best first; at most slots() of them are kept) that are not resident,
     // evicting as described above, within the per-frame byte bound (`unbounded` lifts it: a viewer's
     // start or a cut to a new place, where the caller prefers one long frame to many poor ones).
-    void update(const ProbeSource& source, std::span<const std::uint32_t> wanted, bool unbounded);
+    void update(const ProbeSource& source, std::span<const ProbeId> wanted, bool unbounded);
     // Probes update() went to load whose stored bytes failed their checksum, with the reader's
     // message, since the last call: never loaded; the caller leaves them out of the probe set
     // (ProbeProjectionPass), or update() tries them again.
     struct Damaged {
-        std::uint32_t id;
+        ProbeId id;
         std::string what;
     };
     std::vector<Damaged> takeDamaged();
     // Frame in which the pixels last used or wanted probe `id` according to the feedback read so far
     // (-1: never), and the newest feedback's demand: sampled pixels (every 4th in x and y) that blended
     // it or had to pass over it while it was not resident.
-    std::int64_t lastUsed(std::uint32_t id) const { return planner_.lastUsed(id); }
-    std::uint32_t demand(std::uint32_t id) const { return planner_.demand(id); }
-    bool isResident(std::uint32_t id) const { return planner_.isResident(id); }
+    std::int64_t lastUsed(ProbeId id) const { return planner_.lastUsed(id); }
+    std::uint32_t demand(ProbeId id) const { return planner_.demand(id); }
+    bool isResident(ProbeId id) const { return planner_.isResident(id); }
     // Changes whenever a probe enters or leaves the pool (a load, an eviction, a removal).
     std::uint64_t residentVersion() const { return residentVersion_; }
 
@@ -164,9 +164,9 @@ private:
     ResidencyPool poolFor(std::size_t budgetBytes, std::size_t fixedBytes, std::size_t probes) const;
     void allocateAtlas(const ResidencyPool& pool);
     void growAtlas(std::size_t slots, const ProbeSource& source);
-    void writeEntry(std::uint32_t id, const ProbeSource& source);
+    void writeEntry(ProbeId id, const ProbeSource& source);
     void readFeedback();
-    void upload(const ProbeView& bytes, std::uint32_t slot, bool direct);
+    void upload(const ProbeView& bytes, SlotId slot, bool direct);
 
     CacheParams params_;
     std::size_t capacity_ = 0, uploadBound_ = 0;

@@ -9,7 +9,7 @@
 
 namespace cubeao {
 
-static_assert(ResidencyPlanner::kNone == kernel::kNoSlot && ResidencyPlanner::kNone == kernel::kNoProbe);
+static_assert(index(SlotId::None) == kernel::kNoSlot && index(ProbeId::None) == kernel::kNoProbe);
 
 namespace {
 
@@ -17,9 +17,9 @@ std::string mib(std::size_t bytes) { return std::to_string(double(bytes) / doubl
 
 }  // namespace
 
-std::uint32_t ProbeAtlasLayout::tile(std::uint32_t slot) const {
-    const int t = int(slot) % tilesPerPage();
-    return kernel::packAtlasTile(t % tilesX, t / tilesX, int(slot) / tilesPerPage());
+std::uint32_t ProbeAtlasLayout::tile(SlotId slot) const {
+    const int t = int(index(slot)) % tilesPerPage();
+    return kernel::packAtlasTile(t % tilesX, t / tilesX, int(index(slot)) / tilesPerPage());
 }
 
 ProbeAtlasLayout probeAtlasLayout(std::size_t slots, int res, int maxTextureSize, int maxLayers) {
@@ -62,27 +62,28 @@ ResidencyPool residencyPool(const ResidencyBudget& b) {
 // ---- ResidencyPlanner ----------------------------------------------------------------------------
 
 ResidencyPlanner::ResidencyPlanner(std::size_t slots, std::size_t probeBytes, std::size_t uploadBound)
-    : probeBytes_(std::max<std::size_t>(probeBytes, 1)), uploadBound_(uploadBound), owner_(slots, kNone) {}
+    : probeBytes_(std::max<std::size_t>(probeBytes, 1)), uploadBound_(uploadBound), owner_(slots, ProbeId::None) {}
 
 void ResidencyPlanner::growSlots(std::size_t slots) {
-    if (slots > owner_.size()) owner_.resize(slots, kNone);
+    if (slots > owner_.size()) owner_.resize(slots, ProbeId::None);
 }
 
 void ResidencyPlanner::resizeProbes(std::size_t probes) {
-    slot_.resize(probes, kNone);
+    slot_.resize(probes, SlotId::None);
     live_.resize(probes, 1);
     lastUsed_.resize(probes, -1);
     demand_.resize(probes, 0u);
     loadedAt_.resize(probes, -1);
 }
 
-std::uint32_t ResidencyPlanner::remove(std::uint32_t id) {
-    if (id >= slot_.size()) return kNone;
-    live_[id] = 0;
-    const std::uint32_t slot = slot_[id];
-    if (slot != kNone) {
-        owner_[slot] = kNone;
-        slot_[id] = kNone;
+SlotId ResidencyPlanner::remove(ProbeId id) {
+    const std::uint32_t i = index(id);
+    if (i >= slot_.size()) return SlotId::None;
+    live_[i] = 0;
+    const SlotId slot = slot_[i];
+    if (slot != SlotId::None) {
+        owner_[index(slot)] = ProbeId::None;
+        slot_[i] = SlotId::None;
         --resident_;
     }
     return slot;
@@ -98,7 +99,7 @@ void ResidencyPlanner::feedback(std::span<const std::uint32_t> counts, std::int6
     }
 }
 
-void ResidencyPlanner::beginFrame(std::span<const std::uint32_t> wanted, bool unbounded) {
+void ResidencyPlanner::beginFrame(std::span<const ProbeId> wanted, bool unbounded) {
     if (wanted.size() > slots()) wanted = wanted.first(slots());
     wanted_.assign(wanted.begin(), wanted.end());
     victims_.clear();
@@ -111,55 +112,56 @@ void ResidencyPlanner::beginFrame(std::span<const std::uint32_t> wanted, bool un
 std::optional<ResidencyPlanner::Load> ResidencyPlanner::next() {
     using H = ResidencyHysteresis;
     for (; cursor_ < wanted_.size(); ++cursor_) {
-        const std::uint32_t id = wanted_[cursor_];
-        if (id >= slot_.size() || !live_[id] || slot_[id] != kNone) continue;
+        const ProbeId id = wanted_[cursor_];
+        const std::uint32_t i = index(id);
+        if (i >= slot_.size() || !live_[i] || slot_[i] != SlotId::None) continue;
         if (!unbounded_ && (frameLoads_ + 1) * probeBytes_ > uploadBound_) {
             // The next ones, so that their bytes are in memory when their frame comes.
             const std::size_t end = std::min(wanted_.size(), cursor_ + 2 * uploadBound_ / probeBytes_);
             for (std::size_t a = cursor_; a < end; ++a)
-                if (slotOf(wanted_[a]) == kNone) readAhead_.push_back(wanted_[a]);
+                if (!isResident(wanted_[a])) readAhead_.push_back(wanted_[a]);
             finish();
             return std::nullopt;
         }
-        while (nextFree_ < owner_.size() && owner_[nextFree_] != kNone) ++nextFree_;
-        if (nextFree_ < owner_.size()) return Load{id, std::uint32_t(nextFree_), kNone};
+        while (nextFree_ < owner_.size() && owner_[nextFree_] != ProbeId::None) ++nextFree_;
+        if (nextFree_ < owner_.size()) return Load{id, SlotId{std::uint32_t(nextFree_)}, ProbeId::None};
         if (!victimsMade_) {  // resident, not wanted: the least demanded, then least recently used, first
             std::vector<bool> isWanted(slot_.size(), false);
-            for (std::uint32_t v : wanted_)
-                if (v < isWanted.size()) isWanted[v] = true;
-            for (std::uint32_t owner : owner_)
-                if (owner != kNone && !isWanted[owner]) victims_.push_back(owner);
-            std::sort(victims_.begin(), victims_.end(), [&](std::uint32_t a, std::uint32_t b) {
-                if (demand_[a] != demand_[b]) return demand_[a] > demand_[b];
-                return lastUsed_[a] != lastUsed_[b] ? lastUsed_[a] > lastUsed_[b] : a > b;
+            for (const ProbeId v : wanted_)
+                if (index(v) < isWanted.size()) isWanted[index(v)] = true;
+            for (const ProbeId owner : owner_)
+                if (owner != ProbeId::None && !isWanted[index(owner)]) victims_.push_back(owner);
+            std::sort(victims_.begin(), victims_.end(), [&](ProbeId a, ProbeId b) {
+                if (demand(a) != demand(b)) return demand(a) > demand(b);
+                return lastUsed(a) != lastUsed(b) ? lastUsed(a) > lastUsed(b) : a > b;
             });  // taken from the back
             victimsMade_ = true;
         }
         if (victims_.empty()) break;  // every resident probe is wanted more
-        const std::uint32_t victim = victims_.back();
+        const ProbeId victim = victims_.back();
         // Hysteresis: a probe the pixels use gives way only to one they want clearly more, or two
         // probes of similar demand would swap places every frame (and every swap is an upload).
         // A probe only ranked by place (no pixel asked for it yet) does not displace one loaded
         // within kFreshFrames: as the camera moves, the places near the cut of the ranking swap.
-        const bool victimInUse = lastUsed_[victim] >= frame_ - H::kInUseFrames;
-        if (victimInUse && double(demand_[id]) <= H::kSwapMargin * double(demand_[victim]) + H::kSwapMinimum) break;
-        if (demand_[id] == 0 && loadedAt_[victim] >= frame_ - H::kFreshFrames) break;
-        return Load{id, slot_[victim], victim};
+        const bool victimInUse = lastUsed(victim) >= frame_ - H::kInUseFrames;
+        if (victimInUse && double(demand(id)) <= H::kSwapMargin * double(demand(victim)) + H::kSwapMinimum) break;
+        if (demand(id) == 0 && loadedAt_[index(victim)] >= frame_ - H::kFreshFrames) break;
+        return Load{id, slotOf(victim), victim};
     }
     finish();
     return std::nullopt;
 }
 
 void ResidencyPlanner::loaded(const Load& load) {
-    if (load.evicted != kNone) {
+    if (load.evicted != ProbeId::None) {
         victims_.pop_back();  // next() offered the back of the list
-        slot_[load.evicted] = kNone;
+        slot_[index(load.evicted)] = SlotId::None;
         ++evictions_;
         --resident_;
     }
-    owner_[load.slot] = load.probe;
-    slot_[load.probe] = load.slot;
-    loadedAt_[load.probe] = frame_;
+    owner_[index(load.slot)] = load.probe;
+    slot_[index(load.probe)] = load.slot;
+    loadedAt_[index(load.probe)] = frame_;
     ++loads_, ++resident_, ++frameLoads_;
     ++cursor_;
 }

@@ -15,6 +15,8 @@
 #include <span>
 #include <vector>
 
+#include "cubeao/runtime/probe_id.h"
+
 namespace cubeao {
 
 // Where slot i's six faces live in the array textures: tile t = i mod (tilesX · tilesY) of page
@@ -27,7 +29,7 @@ struct ProbeAtlasLayout {
     int tilesPerPage() const { return tilesX * tilesY; }
     std::size_t tiles() const { return std::size_t(tilesPerPage()) * std::size_t(pages); }
     // Slot `slot`'s tile packed as the projection reads it (ProbeEntry::tile, kernel::packAtlasTile).
-    std::uint32_t tile(std::uint32_t slot) const;
+    std::uint32_t tile(SlotId slot) const;
 };
 
 // A near-square page just big enough for `slots` (tilesX = ⌈√slots⌉), at most maxTextureSize / res
@@ -64,8 +66,6 @@ struct ResidencyHysteresis {
 
 class ResidencyPlanner {
 public:
-    static constexpr std::uint32_t kNone = 0xffffffffu;  // no slot, no probe (kernel::kNoSlot, kNoProbe)
-
     // `uploadBound` bytes a frame at most, `probeBytes` a load.
     ResidencyPlanner(std::size_t slots, std::size_t probeBytes, std::size_t uploadBound);
 
@@ -81,26 +81,27 @@ public:
     void growSlots(std::size_t slots);
     // Probe ids 0 … probes − 1 known (new ones are live, not resident).
     void resizeProbes(std::size_t probes);
-    // Probe `id` is gone: its slot, if it held one, is free. Returns that slot (kNone: it held none).
-    std::uint32_t remove(std::uint32_t id);
+    // Probe `id` is gone: its slot, if it held one, is free. Returns that slot (SlotId::None: it held none).
+    SlotId remove(ProbeId id);
 
-    std::uint32_t slotOf(std::uint32_t id) const { return id < slot_.size() ? slot_[id] : kNone; }
-    std::uint32_t ownerOf(std::uint32_t slot) const { return owner_[slot]; }
-    bool isResident(std::uint32_t id) const { return slotOf(id) != kNone; }
+    SlotId slotOf(ProbeId id) const { return index(id) < slot_.size() ? slot_[index(id)] : SlotId::None; }
+    ProbeId ownerOf(SlotId slot) const { return owner_[index(slot)]; }
+    bool isResident(ProbeId id) const { return slotOf(id) != SlotId::None; }
     // Frame in which the pixels last used or wanted probe `id` (-1: never), and the newest feedback's
     // demand for it (sampled pixels that blended it or passed over it while it was not resident).
-    std::int64_t lastUsed(std::uint32_t id) const { return id < lastUsed_.size() ? lastUsed_[id] : -1; }
-    std::uint32_t demand(std::uint32_t id) const { return id < demand_.size() ? demand_[id] : 0u; }
+    std::int64_t lastUsed(ProbeId id) const { return index(id) < lastUsed_.size() ? lastUsed_[index(id)] : -1; }
+    std::uint32_t demand(ProbeId id) const { return index(id) < demand_.size() ? demand_[index(id)] : 0u; }
 
     // The pixels' counts per probe id of frame `frame` (read back, oldest first).
     void feedback(std::span<const std::uint32_t> counts, std::int64_t frame);
 
     // This frame's wanted probes, best first (at most slots() are considered); `unbounded` lifts the
     // upload bound (a viewer's start, a cut).
-    void beginFrame(std::span<const std::uint32_t> wanted, bool unbounded);
+    void beginFrame(std::span<const ProbeId> wanted, bool unbounded);
     struct Load {
-        std::uint32_t probe = kNone, slot = kNone;
-        std::uint32_t evicted = kNone;  // the slot's resident probe, evicted by this load
+        ProbeId probe = ProbeId::None;
+        SlotId slot = SlotId::None;
+        ProbeId evicted = ProbeId::None;  // the slot's resident probe, evicted by this load
     };
     // The next load, or nothing: every wanted probe is resident, the bound is reached (readAhead()
     // then names the probes the next frames will load), no slot can be freed, or the hysteresis keeps
@@ -108,23 +109,23 @@ public:
     std::optional<Load> next();
     void loaded(const Load& load);   // the probe is in its slot
     void skipped(const Load& load);  // its bytes could not be read: passed over this frame
-    std::span<const std::uint32_t> readAhead() const { return readAhead_; }
+    std::span<const ProbeId> readAhead() const { return readAhead_; }
     void endFrame() { ++frame_; }
 
 private:
     void finish() { cursor_ = wanted_.size(); }
 
     std::size_t probeBytes_, uploadBound_;
-    std::vector<std::uint32_t> slot_;      // per probe id
+    std::vector<SlotId> slot_;             // per probe id
     std::vector<std::uint8_t> live_;       // per probe id
     std::vector<std::int64_t> lastUsed_;   // per probe id
     std::vector<std::uint32_t> demand_;    // per probe id, of frame demandFrame_
     std::vector<std::int64_t> loadedAt_;   // per probe id: frame of its last load
-    std::vector<std::uint32_t> owner_;     // per slot
+    std::vector<ProbeId> owner_;           // per slot
     std::int64_t demandFrame_ = -1, frame_ = 0;
     std::size_t resident_ = 0, loads_ = 0, evictions_ = 0;
     // The frame being planned.
-    std::vector<std::uint32_t> wanted_, victims_, readAhead_;
+    std::vector<ProbeId> wanted_, victims_, readAhead_;
     bool unbounded_ = false, victimsMade_ = false;
     std::size_t cursor_ = 0, nextFree_ = 0, frameLoads_ = 0;
 };
