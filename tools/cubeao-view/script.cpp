@@ -7,7 +7,7 @@
 #include <iterator>
 #include <sstream>
 
-#include "cubeao-view/view_modes.h"
+#include "cubeao-view/view_mode.h"
 #include "cubeao/core/error.h"
 
 namespace cubeao::viewer {

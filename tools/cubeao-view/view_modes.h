@@ -12,24 +12,10 @@
 #include <span>
 #include <string_view>
 
+#include "cubeao-view/view_mode.h"
 #include "cubeao/gl/handles.h"
 
 namespace cubeao::viewer {
-
-enum class ViewMode { Shaded, Ao, ProbeId, Footprint, Confidence, Path, Baseline, ReferenceDiff };
-
-// Every mode, in the order of the enum (the panel's order and the keys 1–8).
-std::span<const ViewMode> allViewModes();
-// "shaded", "ao", "probe", "footprint", "confidence", "path", "baseline", "diff": the names of
-// --mode and of the script's `mode` command.
-const char* viewModeName(ViewMode mode);
-std::optional<ViewMode> parseViewMode(std::string_view name);
-// One line for the panel: what the colours mean.
-const char* viewModeLegend(ViewMode mode);
-// The screen-space baselines the baseline mode shows ("gtao", "hbao", "alchemy"; ssao_settings.h's
-// names), and whether `name` is one of them.
-std::span<const char* const> viewerBaselines();
-bool isViewerBaseline(std::string_view name);
 
 // The frame's textures (GL names, 0 = not available), all of the frame's size: single-level textures
 // (immutable storage) or otherwise complete ones; they are read with texelFetch, so their filters do

@@ -28,9 +28,9 @@
 #include "cubeao-view/script.h"
 #include "cubeao-view/view_modes.h"
 #include "cubeao-view/viewer_state.h"
-#include "cubeao/cli_util.h"
 #include "cubeao/bake/bake_settings.h"
 #include "cubeao/cache/cache_file.h"
+#include "cubeao/cli_util.h"
 #include "cubeao/core/durable_file.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/handles.h"
@@ -347,9 +347,9 @@ void Viewer::startLive() {
             // The opened cache's probes are the pass's ids 0..n-1 (ProbeSource keeps the cache's order);
             // a damaged one is left out here as the pass leaves it out (or already has).
             std::vector<ProbeRecord> records;
-            std::vector<std::uint32_t> ids;
+            std::vector<ProbeId> ids;
             for (std::size_t i = 0; i < cache_->probeCount(); ++i) {
-                const auto id = std::uint32_t(i);
+                const ProbeId id{std::uint32_t(i)};
                 if (!pass->source().isLive(id)) continue;
                 try {
                     records.push_back(cache_->copyProbe(i));

@@ -14,7 +14,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 
-#include "cubeao-view/view_modes.h"
+#include "cubeao-view/view_mode.h"
 #include "cubeao/core/camera.h"
 
 namespace cubeao::viewer {
