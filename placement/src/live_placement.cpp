@@ -58,7 +58,7 @@ struct LivePlacement::Impl {
         std::uint32_t index = 0;
         glm::vec3 position{0.0f};
         std::optional<ProbeRecord> record;  // the version in the pass; none while the fast bake is pending
-        std::optional<std::uint32_t> passId;
+        std::optional<ProbeId> passId;
         bool traced = false;  // record is a traced bake (re-baked, or adopted from a traced cache)
     };
 
@@ -216,7 +216,7 @@ CacheParams LivePlacement::cacheParams() const { return impl_->fastParams; }
 
 const CoverageFeedback& LivePlacement::feedback() const { return impl_->feedback; }
 
-void LivePlacement::adopt(std::vector<ProbeRecord> probes, std::span<const std::uint32_t> passIds,
+void LivePlacement::adopt(std::vector<ProbeRecord> probes, std::span<const ProbeId> passIds,
                           const CacheParams& params) {
     Impl& m = *impl_;
     if (m.frames != 0) throw Error("LivePlacement::adopt: call it before the first frame()");

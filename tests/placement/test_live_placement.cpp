@@ -417,10 +417,10 @@ TEST_F(LivePlacementGl, BoxRoomWalkFromNoProbesReachesTargetAndSavesAVerifiedCac
     LivePlacement reopened(ps, fast, traced, live);
     ProbeProjectionPass fromCache(second, scene.positions, scene.indices);
     std::vector<ProbeRecord> records;
-    std::vector<std::uint32_t> ids;
+    std::vector<ProbeId> ids;
     for (std::size_t i = 0; i < second.probeCount(); ++i) {
         records.push_back(second.copyProbe(i));
-        ids.push_back(std::uint32_t(i));
+        ids.push_back(ProbeId{std::uint32_t(i)});
     }
     CacheParams other = second.params();
     other.radius *= 2.0f;
@@ -429,7 +429,7 @@ TEST_F(LivePlacementGl, BoxRoomWalkFromNoProbesReachesTargetAndSavesAVerifiedCac
     EXPECT_EQ(reopened.stats().inPass, s.placed);
     EXPECT_EQ(reopened.stats().placed, 0u) << "adopted, not placed";
     EXPECT_EQ(reopened.stats().toRebake, resaved.rebaked == s.placed ? 0u : s.placed);
-    EXPECT_THROW(reopened.adopt({records.front()}, std::vector<std::uint32_t>{0u}, second.params()), Error);
+    EXPECT_THROW(reopened.adopt({records.front()}, std::vector<ProbeId>{ProbeId{0}}, second.params()), Error);
     const std::filesystem::path again = dir / "again.cubeao";
     ASSERT_EQ(reopened.save(again), s.placed);
     const CacheReader third(again);

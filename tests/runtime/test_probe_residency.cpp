@@ -219,8 +219,8 @@ TEST_F(ResidencyGl, AProbeAddedAtRunTimeGivesTheFrameOfTheSameProbeFromACache) {
     live->render(v, 0);
     const Image withoutIt = live->readRawAo();
     auto& projection = dynamic_cast<ProbeProjectionPass&>(live->method());
-    const std::uint32_t id = projection.addProbe(full.copyProbe(roomProbes().size() - 1));
-    EXPECT_EQ(id, roomProbes().size() - 1);
+    const ProbeId id = projection.addProbe(full.copyProbe(roomProbes().size() - 1));
+    EXPECT_EQ(index(id), roomProbes().size() - 1);
     for (int f = 0; f < 3; ++f) live->render(v, 0);  // the new probe streams in within the bound
     const Image added = live->readRawAo();
     EXPECT_NE(added.pixels, withoutIt.pixels) << "the sixth probe must change this view";
@@ -248,7 +248,7 @@ TEST_F(ResidencyGl, AnEmptyStartFilledProbeByProbeRendersTheFullCachesFrame) {
     live->render(v, 0);
     EXPECT_EQ(projection.uncoveredFraction(), projection.pixelShares().geometry) << "no probe yet: nothing covered";
     for (std::size_t i = 0; i < full.probeCount(); ++i) {
-        EXPECT_EQ(projection.addProbe(full.copyProbe(i)), i);
+        EXPECT_EQ(index(projection.addProbe(full.copyProbe(i))), i);
         live->render(v, 0);
     }
     for (int f = 0; f < 3; ++f) live->render(v, 0);
@@ -272,7 +272,7 @@ TEST_F(ResidencyGl, APixelNoProbeSeesGetsTheScreenSpaceValueNotOne) {
     auto r = renderer(std::move(probes));
     r->render(v, 3);
     const Image covered = r->readRawAo();
-    for (std::uint32_t id = 0; id < roomProbes().size(); ++id) projection.removeProbe(id);
+    for (std::uint32_t id = 0; id < roomProbes().size(); ++id) projection.removeProbe(ProbeId{id});
     r->render(v, 3);
     const Image filled = r->readRawAo();
     EXPECT_GT(projection.uncoveredFraction(), 0.5);
@@ -361,7 +361,7 @@ TEST_F(ResidencyGl, ADamagedProbeIsLeftOutAndTheGridBuildReadsNoAo) {
         EXPECT_EQ(r->readRawAo().pixels, expected->readRawAo().pixels) << "frame " << f;
     }
     EXPECT_EQ(projection.residency().stats().damaged, 1u) << "found once, then left out";
-    EXPECT_FALSE(projection.source().isLive(std::uint32_t(last)));
+    EXPECT_FALSE(projection.source().isLive(ProbeId{std::uint32_t(last)}));
     EXPECT_EQ(projection.residency().stats().resident, last);
 
     std::unique_ptr<FrameRenderer> none;

@@ -284,7 +284,7 @@ TEST_F(DiagnosticsGl, PathCodesAreThePixelSharesAndProbeIdsAreLiveProbesWhereAPr
                 bool ok = (path == 0) == g.empty(x, y);
                 if (probe) {
                     const auto id = std::uint32_t(t[0]);
-                    ok = ok && t[0] == float(id) && pass.source().isLive(id);
+                    ok = ok && t[0] == float(id) && pass.source().isLive(ProbeId{id});
                     ok = ok && std::isfinite(t[1]) && t[1] > 0.0f && t[2] >= 0.0f && t[2] <= 1.0f;
                 } else {
                     ok = ok && t[0] == -1.0f;

@@ -26,7 +26,7 @@ public:
     ~TouchedProbes() { releaseAll(); }
     void touch(std::uint32_t id) {
         if (id >= mark_.size() || mark_[id]) return;
-        source_.prefetchDepth(id);  // the texels the grid reads come from this section alone
+        source_.prefetchDepth(ProbeId{id});  // the texels the grid reads come from this section alone
         mark_[id] = true;
         ids_.push_back(id);
         if (ids_.size() >= 256) releaseAll();
@@ -89,9 +89,9 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     auto touched = std::make_shared<TouchedProbes>(source_);
     const auto quality = [this, project, touched](std::uint32_t probe, const SurfacePoint& x) {
         touched->touch(probe);
-        const glm::vec3 at = source_.position(probe);
+        const glm::vec3 at = source_.position(ProbeId{probe});
         if (x.position == at) return 0.0;  // no direction to look up
-        const float stored = source_.distance(probe, cube::texelIndex(x.position - at, depthRes_));
+        const float stored = source_.distance(ProbeId{probe}, cube::texelIndex(x.position - at, depthRes_));
         const double area = visibleFootprint(at, stored, res_, depthRes_, x.position, x.normal, project);
         return area > 0.0 ? 1.0 / area : 0.0;  // 1 / inf = 0: not seen
     };
@@ -100,7 +100,7 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     glm::vec3 boundsMin(std::numeric_limits<float>::max()), boundsMax(-std::numeric_limits<float>::max());
     for (const glm::vec3& v : meshPositions) boundsMin = glm::min(boundsMin, v), boundsMax = glm::max(boundsMax, v);
     std::vector<glm::vec3> probePositions(source_.size());
-    for (std::uint32_t i = 0; i < probePositions.size(); ++i) probePositions[i] = source_.position(i);
+    for (std::uint32_t i = 0; i < probePositions.size(); ++i) probePositions[i] = source_.position(ProbeId{i});
     {
         const std::vector<SurfacePoint> points =
             sampleSurface(meshPositions, meshIndices, gridSettings.cellSize / 8.0f);
@@ -202,7 +202,7 @@ void ProbeProjectionPass::updateResidentLists() {
     std::vector<std::uint32_t> ids;
     std::vector<glm::vec3> positions;
     for (std::uint32_t id = 0; id < source_.size(); ++id)
-        if (residency_->isResident(ProbeId{id})) ids.push_back(id), positions.push_back(source_.position(id));
+        if (residency_->isResident(ProbeId{id})) ids.push_back(id), positions.push_back(source_.position(ProbeId{id}));
     const std::vector<std::size_t> changed = nearest_->assign(ids, positions);
     uploadCells(nearestCells_.id(), nearest_->table(), std::size_t(nearest_->k()), changed);
 }
@@ -226,9 +226,9 @@ std::vector<std::uint32_t> ProbeProjectionPass::readResidentCandidateCounts() co
     return counts;
 }
 
-std::uint32_t ProbeProjectionPass::addProbe(ProbeRecord probe) {
+ProbeId ProbeProjectionPass::addProbe(ProbeRecord probe) {
     const glm::vec3 position = probe.position;
-    const std::uint32_t id = source_.add(std::move(probe));
+    const ProbeId id = source_.add(std::move(probe));
     const std::vector<std::size_t> changed = grid_->addProbe(position);
     if (grid_->probeCount() != source_.size()) throw Error("ProbeProjectionPass: probe ids out of step");
     residency_->syncProbes(source_);
@@ -237,9 +237,9 @@ std::uint32_t ProbeProjectionPass::addProbe(ProbeRecord probe) {
     return id;
 }
 
-void ProbeProjectionPass::removeProbe(std::uint32_t id) {
+void ProbeProjectionPass::removeProbe(ProbeId id) {
     source_.remove(id);
-    const std::vector<std::size_t> changed = grid_->removeProbe(id);
+    const std::vector<std::size_t> changed = grid_->removeProbe(index(id));
     residency_->syncProbes(source_);
     uploadCells(cells_.id(), grid_->table(), std::size_t(candidates_), changed);
     cellsChanged_ = true;
@@ -251,7 +251,7 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
     // A damaged probe is left out, as if it had been removed: the walk goes on without it.
     for (const ProbeResidency::Damaged& d : residency_->takeDamaged()) {
         spdlog::warn("{}; left out: its pixels take the other probes", d.what);
-        removeProbe(index(d.id));
+        removeProbe(d.id);
     }
     updateResidentLists();
     countResidentCandidates();

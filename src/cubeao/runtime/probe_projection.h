@@ -66,8 +66,8 @@ public:
     // Live probe set. addProbe returns the new probe's id and gives the pixels the same probe loaded
     // from a cache gives (same bytes, same grid); the candidate grid chooses again only the cells the
     // probe can affect. Both take effect at the next run().
-    std::uint32_t addProbe(ProbeRecord probe);
-    void removeProbe(std::uint32_t id);
+    ProbeId addProbe(ProbeRecord probe);
+    void removeProbe(ProbeId id);
     // Fills the pixels no resident candidate sees (kernel::kUncoveredAo) each frame; without one they
     // stay open (1), as a cache without coverage there would leave them.
     void setFallback(std::unique_ptr<AoFallback> fallback);

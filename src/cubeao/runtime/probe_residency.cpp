@@ -56,11 +56,11 @@ ProbeSource::ProbeSource(const CacheReader* cache, const CacheParams& params) : 
         probes_[i].position = cache->position(i), probes_[i].maxDistance = cache->maxDistance(i);
 }
 
-float ProbeSource::distanceScale(std::uint32_t id) const {
-    return params_.depthFormat == DepthFormat::R16Unorm ? probes_[id].maxDistance : 1.0f;
+float ProbeSource::distanceScale(ProbeId id) const {
+    return params_.depthFormat == DepthFormat::R16Unorm ? probes_[index(id)].maxDistance : 1.0f;
 }
 
-std::uint32_t ProbeSource::add(ProbeRecord record) {
+ProbeId ProbeSource::add(ProbeRecord record) {
     if (record.aoConfidence.size() != aoSectionSize(params_) || record.depth.size() != depthSectionSize(params_))
         throw Error("probe " + std::to_string(record.index) + ": " + std::to_string(record.aoConfidence.size()) +
                     " AO and " + std::to_string(record.depth.size()) + " distance bytes; this probe set needs " +
@@ -70,37 +70,37 @@ std::uint32_t ProbeSource::add(ProbeRecord record) {
     p.maxDistance = record.maxDistance;
     p.added = std::make_unique<ProbeRecord>(std::move(record));
     probes_.push_back(std::move(p));
-    return std::uint32_t(probes_.size() - 1);
+    return ProbeId{std::uint32_t(probes_.size() - 1)};
 }
 
-void ProbeSource::remove(std::uint32_t id) {
-    if (!isLive(id)) throw Error("no live probe with id " + std::to_string(id));
-    probes_[id].live = false;
-    probes_[id].added.reset();
+void ProbeSource::remove(ProbeId id) {
+    if (!isLive(id)) throw Error("no live probe with id " + std::to_string(index(id)));
+    probes_[index(id)].live = false;
+    probes_[index(id)].added.reset();
 }
 
-ProbeView ProbeSource::view(std::uint32_t id) const {
-    const Probe& p = probes_[id];
+ProbeView ProbeSource::view(ProbeId id) const {
+    const Probe& p = probes_[index(id)];
     if (p.added) return viewOf(*p.added);
-    return cache_->probe(id);
+    return cache_->probe(index(id));
 }
 
-void ProbeSource::prefetch(std::uint32_t id) const {
-    if (!probes_[id].added && cache_) cache_->prefetch(id);
+void ProbeSource::prefetch(ProbeId id) const {
+    if (!probes_[index(id)].added && cache_) cache_->prefetch(index(id));
 }
 
-void ProbeSource::prefetchDepth(std::uint32_t id) const {
-    if (!probes_[id].added && cache_) cache_->prefetchDepth(id);
+void ProbeSource::prefetchDepth(ProbeId id) const {
+    if (!probes_[index(id)].added && cache_) cache_->prefetchDepth(index(id));
 }
 
 void ProbeSource::releaseAll() const {
     if (cache_) cache_->releaseAll();
 }
 
-float ProbeSource::distance(std::uint32_t id, std::size_t texel) const {
-    const Probe& p = probes_[id];
+float ProbeSource::distance(ProbeId id, std::size_t texel) const {
+    const Probe& p = probes_[index(id)];
     const std::span<const std::uint8_t> bytes = p.added ? std::span<const std::uint8_t>(p.added->depth)
-                                                        : cache_->unverifiedDepth(id);
+                                                        : cache_->unverifiedDepth(index(id));
     const std::uint32_t size = depthBytesPerTexel(params_.depthFormat);
     std::uint32_t stored = 0;
     if (size == 2) {
@@ -216,8 +216,8 @@ void ProbeResidency::ensureCapacity(std::size_t probes) {
 
 void ProbeResidency::writeEntry(ProbeId id, const ProbeSource& source) {
     kernel::ProbeEntry e{};
-    e.position = source.position(index(id));
-    e.distanceScale = source.distanceScale(index(id));
+    e.position = source.position(id);
+    e.distanceScale = source.distanceScale(id);
     const SlotId slot = planner_.slotOf(id);
     e.slot = index(slot);
     e.tile = slot == SlotId::None ? kNoSlot : atlas_.tile(slot);
@@ -228,7 +228,7 @@ void ProbeResidency::writeEntry(ProbeId id, const ProbeSource& source) {
 void ProbeResidency::syncProbes(const ProbeSource& source) {
     const std::size_t before = planner_.probes();
     std::size_t live = 0;
-    for (std::uint32_t id = 0; id < source.size(); ++id) live += source.isLive(id) ? 1 : 0;
+    for (std::uint32_t i = 0; i < source.size(); ++i) live += source.isLive(ProbeId{i}) ? 1 : 0;
     if (unlimited_ && live > slots() && table_.id() != 0) growAtlas(live, source);
     ensureCapacity(source.size());
     stats_.gpuBytes = atlasBytes_ + kStagingRegions * uploadBound_ + capacity_ * sizeof(kernel::ProbeEntry) +
@@ -237,14 +237,14 @@ void ProbeResidency::syncProbes(const ProbeSource& source) {
     if (source.size() > before) {  // new ids: one write of the whole range
         std::vector<kernel::ProbeEntry> entries(source.size() - before);
         for (std::size_t i = 0; i < entries.size(); ++i) {
-            const auto id = std::uint32_t(before + i);
+            const ProbeId id{std::uint32_t(before + i)};
             entries[i] = {source.position(id), source.distanceScale(id), kNoSlot, kNoSlot, 0u, 0u};
         }
         glNamedBufferSubData(table_.id(), GLintptr(before * sizeof(kernel::ProbeEntry)),
                              GLsizeiptr(entries.size() * sizeof(kernel::ProbeEntry)), entries.data());
     }
-    for (std::uint32_t id = 0; id < planner_.probes(); ++id)  // removed probes leave their slots
-        if (!source.isLive(id) && planner_.remove(ProbeId{id}) != SlotId::None) writeEntry(ProbeId{id}, source);
+    for (std::uint32_t i = 0; i < planner_.probes(); ++i)  // removed probes leave their slots
+        if (const ProbeId id{i}; !source.isLive(id) && planner_.remove(id) != SlotId::None) writeEntry(id, source);
 }
 
 void ProbeResidency::readFeedback() {
@@ -293,8 +293,8 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const ProbeId> 
         // is freed.
         ProbeView bytes;
         try {
-            source.prefetch(index(load->probe));  // one read of its pages, if the frames before did not ask already
-            bytes = source.view(index(load->probe));
+            source.prefetch(load->probe);  // one read of its pages, if the frames before did not ask already
+            bytes = source.view(load->probe);
         } catch (const Error& e) {
             damaged_.push_back({load->probe, e.what()});
             ++stats_.damaged;
@@ -313,7 +313,7 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const ProbeId> 
         }
         writeEntry(load->probe, source);
     }
-    for (const ProbeId id : planner_.readAhead()) source.prefetch(index(id));  // in memory when their frame comes
+    for (const ProbeId id : planner_.readAhead()) source.prefetch(id);  // in memory when their frame comes
     glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
     if (stats_.frameUploads > 0) source.releaseAll();  // the bytes are staged (or copied by the driver)
     if (!unbounded && stats_.frameUploads > 0) staging_->upload.fence(region);

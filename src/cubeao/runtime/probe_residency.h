@@ -38,25 +38,25 @@ public:
 
     const CacheParams& params() const { return params_; }
     std::size_t size() const { return probes_.size(); }
-    bool isLive(std::uint32_t id) const { return id < probes_.size() && probes_[id].live; }
-    glm::vec3 position(std::uint32_t id) const { return probes_[id].position; }
+    bool isLive(ProbeId id) const { return index(id) < probes_.size() && probes_[index(id)].live; }
+    glm::vec3 position(ProbeId id) const { return probes_[index(id)].position; }
     // Multiplies a stored distance texel into world units on the GPU (r16unorm: maxDistance; floats: 1).
-    float distanceScale(std::uint32_t id) const;
+    float distanceScale(ProbeId id) const;
 
     // A record with the cache's section sizes (Error otherwise, naming them); returns its id.
-    std::uint32_t add(ProbeRecord record);
-    void remove(std::uint32_t id);  // Error for an unknown or removed id
+    ProbeId add(ProbeRecord record);
+    void remove(ProbeId id);  // Error for an unknown or removed id
 
     // The stored bytes (a cache probe's checksum is checked on first use).
-    ProbeView view(std::uint32_t id) const;
-    void prefetch(std::uint32_t id) const;  // page hint for a cache probe; nothing for added ones
-    void prefetchDepth(std::uint32_t id) const;  // the same for its distance section alone
+    ProbeView view(ProbeId id) const;
+    void prefetch(ProbeId id) const;       // page hint for a cache probe; nothing for added ones
+    void prefetchDepth(ProbeId id) const;  // the same for its distance section alone
     void releaseAll() const;  // every cache page (CacheReader::releaseAll)
     // Distance-cube texel `texel` (cube::texelIndex order, depthRes faces) in world units, read from
     // the stored bytes: what the candidate grid's visibility test needs, without a decoded copy. A
     // cache probe's checksum is not checked here (CacheReader::unverifiedDepth): building the grid
     // then reads the distance sections alone, not the whole file; view() checks it before upload.
-    float distance(std::uint32_t id, std::size_t texel) const;
+    float distance(ProbeId id, std::size_t texel) const;
 
 private:
     struct Probe {

@@ -19,6 +19,7 @@
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/core/camera.h"
 #include "cubeao/placement/coverage_feedback.h"
+#include "cubeao/runtime/probe_id.h"
 
 namespace cubeao {
 struct BakeSettings;  // bake/bake_settings.h (cubeao_offline, a private dependency of this library)
@@ -88,7 +89,7 @@ public:
     // traced when idle if they are fast ones, and new probes get indices above theirs.
     // The coverage counts see them as covering (CoverageFeedback::addProbes). Call before the first
     // frame() (cubeao::Error otherwise).
-    void adopt(std::vector<ProbeRecord> probes, std::span<const std::uint32_t> passIds, const CacheParams& params);
+    void adopt(std::vector<ProbeRecord> probes, std::span<const ProbeId> passIds, const CacheParams& params);
 
     // Once per frame, with the camera the frame shows and whether the viewer is idle (camera still):
     //  - Error: every countEveryFrames frames (unless it shows exactly the view counted last) adds the
