@@ -125,6 +125,8 @@ private:
     const Image* referenceFor(std::size_t frame);
     void renderSize(int& w, int& h) const;
     nlohmann::json summary() const;
+    // Damaged probes left out: those the pass found, and those live placement found adopting the cache.
+    std::size_t damagedProbes() const;
 
     ViewerOptions o_;
     ViewerState s_;
@@ -146,6 +148,7 @@ private:
     // Probes of the opened cache that live placement found damaged when adopting them, and left out
     // (the pass counts the ones it finds itself: ResidencyStats::damaged).
     std::size_t liveDamaged_ = 0;
+    placement::LiveSettings::Objective liveObjective_ = placement::LiveSettings::Objective::Error;  // --live-objective
 
     std::uint32_t serial_ = 0;     // frames rendered
     int idleFrames_ = 0;           // frames without input
@@ -194,6 +197,8 @@ Viewer::Viewer(const ViewerOptions& o) : o_(o) {
     if (!(o.coverageTarget > 0.0 && o.coverageTarget <= 1.0)) throw UsageError("--coverage-target must lie in (0, 1]");
     if (o.liveObjective != "error" && o.liveObjective != "coverage")
         throw UsageError("--live-objective \"" + o.liveObjective + "\": expected error or coverage");
+    liveObjective_ = o.liveObjective == "coverage" ? placement::LiveSettings::Objective::Coverage
+                                                   : placement::LiveSettings::Objective::Error;
     cli::checkResidencyOptions(o.gpuBudgetMb, o.uploadMb);  // a negative MiB count would wrap to a huge budget
     const auto mode = parseViewMode(o.mode);
     if (!mode) throw UsageError("--mode \"" + o.mode + "\": not a view mode");
@@ -335,8 +340,7 @@ void Viewer::startLive() {
         ls.bakeMsPerFrame = o_.bakeMsPerFrame;
         ls.nearPlane = s_.camera.nearPlane;
         if (path_) ls.farPlane = path_->farPlane;
-        ls.objective = o_.liveObjective == "coverage" ? placement::LiveSettings::Objective::Coverage
-                                                      : placement::LiveSettings::Objective::Error;
+        ls.objective = liveObjective_;
         // The count's frames keep the view's aspect (64 pixels wide).
         int w = 0, h = 0;
         renderSize(w, h);
@@ -363,7 +367,7 @@ void Viewer::startLive() {
             }
             live_->adopt(std::move(records), ids, cache_->params());
         }
-        if (o_.liveObjective == "coverage")
+        if (liveObjective_ == placement::LiveSettings::Objective::Coverage)
             spdlog::info("cubeao-view: live placement ready in {:.1f} s (target coverage {:.0f} %)",
                          msSince(start) / 1000.0, 100.0 * o_.coverageTarget);
         else
@@ -705,6 +709,11 @@ void Viewer::stopRecording() {
     s_.recordFile.reset();
 }
 
+std::size_t Viewer::damagedProbes() const {
+    const ProbeProjectionPass* pass = probes();
+    return pass ? pass->residency().stats().damaged + liveDamaged_ : 0;
+}
+
 nlohmann::json Viewer::summary() const {
     nlohmann::json j = {{"scene", scene_.source},
                         {"frames", serial_},
@@ -713,7 +722,7 @@ nlohmann::json Viewer::summary() const {
     if (ProbeProjectionPass* pass = probes()) {
         j["probes"] = pass->grid().liveProbes();
         j["resident"] = pass->residency().stats().resident;
-        j["damaged"] = pass->residency().stats().damaged + liveDamaged_;
+        j["damaged"] = damagedProbes();
         j["gpu_bytes"] = pass->gpuBytes();
         j["pixels"] = {{"uncovered", shares_.uncovered}, {"fallback_probe", shares_.fallbackProbe}};
     }
@@ -794,9 +803,9 @@ void Viewer::panel() {
     f.gpuTimesAreExecution = main_->timesAreExecution();
     f.probes = probes();
     f.shares = shares_;
-    if (f.probes) f.damaged = f.probes->residency().stats().damaged + liveDamaged_;
+    f.damaged = damagedProbes();
     f.live = live_.get();
-    f.coverageObjective = o_.liveObjective == "coverage";
+    f.coverageObjective = liveObjective_ == placement::LiveSettings::Objective::Coverage;
     f.coverageTarget = o_.coverageTarget, f.bakeMsBudget = o_.bakeMsPerFrame;
     f.pathFrames = path_ ? path_->frames.size() : 0;
     const PanelRequests r = drawPanel(s_, f);

@@ -72,9 +72,6 @@ int methodRank(const std::string& name) {
     return it == kBaselines.end() ? 9 : 2 + int(it - kBaselines.begin());
 }
 
-
-
-
 int frameNumberOf(const std::string& name) {
     // ao_NNNN.exr
     try {
