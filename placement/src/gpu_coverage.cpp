@@ -5,7 +5,6 @@
 #include <string>
 #include <vector>
 
-#include <glm/gtc/type_ptr.hpp>
 #include <glm/vec4.hpp>
 
 #include "common/coverage.h"
@@ -48,6 +47,7 @@ struct GpuCoverageCount::Impl {
     gl::Program program;
     gl::Buffer probes, counters;
     gl::UniformBlock block;  // kernel::CoverageBlock
+    gl::UniformBlock camera;  // kernel::CameraBlock, per frame
     std::size_t probeCapacity = 0;  // vec4s the probe buffer holds
     Ring ring;                      // the frames in flight
     std::deque<Result> finished;  // results submit() had to wait for, before any in flight
@@ -89,15 +89,10 @@ std::uint64_t GpuCoverageCount::submit(const PinholeCamera& camera, std::span<co
     const kernel::CoverageCounters zero{};
     glNamedBufferSubData(m.counters.id(), 0, sizeof zero, &zero);
 
-    const GLuint p = m.program.id();
     m.block.set(kernel::CoverageBlock{criterion.kernelParams(), std::uint32_t(probes.size()), surfaceEpsilon});
-    glProgramUniform2i(p, gl::uniformLocation(p, "frameSize"), m.gbuffer.width(), m.gbuffer.height());
-    glProgramUniform1f(p, gl::uniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
-    const glm::mat4 worldFromView = view.worldFromView();
-    glProgramUniformMatrix4fv(p, gl::uniformLocation(p, "worldFromView"), 1, GL_FALSE, glm::value_ptr(worldFromView));
-
-    glUseProgram(p);
+    glUseProgram(m.program.id());
     m.block.bind(kernel::kCoverageBlock);
+    m.camera.upload(view.block(m.gbuffer.width(), m.gbuffer.height()), kernel::kCameraBlock);
     glBindTextureUnit(kernel::kGBufferDepthUnit, m.gbuffer.depthTexture());
     glBindTextureUnit(kernel::kGBufferNormalUnit, m.gbuffer.normalTexture());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kCoverageProbeBuffer, m.probes.id());

@@ -16,13 +16,10 @@ layout(std430, binding = kBakeAoSourceBuffer) readonly buffer AoSource { vec2 so
 layout(std430, binding = kBakeTexelListBuffer) readonly buffer TexelList { TexelListHeader header; uint texels[]; };
 #endif
 
-uniform vec3 probe;
-uniform int res;
-uniform int radius;
-uniform float aoRadius;
+layout(std140, binding = kBakeBlock) uniform BakeUniforms { BakeBlock bake; };
 
 vec4 denoiseGBuffer(ivec3 texel) { return texelFetch(gbuffer, texel, 0); }
-float denoiseAo(ivec3 texel) { return source[cubeTexelIndex(texel, res)].x; }
+float denoiseAo(ivec3 texel) { return source[cubeTexelIndex(texel, bake.res)].x; }
 
 void main() {
 #ifdef TEXEL_LIST
@@ -30,7 +27,8 @@ void main() {
     uint index = texels[gl_GlobalInvocationID.x];
 #else
     uint index = gl_GlobalInvocationID.x;
-    if (index >= uint(kCubeFaces) * uint(res) * uint(res)) return;
+    if (index >= uint(kCubeFaces) * uint(bake.res) * uint(bake.res)) return;
 #endif
-    aoConfidence[index].x = aoDenoiseTexel(cubeTexelOfIndex(index, res), res, probe, radius, aoRadius);
+    aoConfidence[index].x =
+        aoDenoiseTexel(cubeTexelOfIndex(index, bake.res), bake.res, bake.probe, bake.denoiseRadius, bake.radius);
 }

@@ -12,13 +12,7 @@ vec4 horizonFetch(ivec3 texel) { return texelFetch(gbuffer, texel, 0); }
 layout(std430, binding = kBakeAoBuffer) writeonly buffer AoOut { vec2 aoConfidence[]; };  // cubeTexelIndex order
 layout(std430, binding = kBakeFetchCountBuffer) buffer FetchCountBuffer { FetchCount counter; };
 
-uniform vec3 probe;
-uniform int res;
-uniform float radius;
-uniform int directions;
-uniform int steps;
-uniform int falloff;
-uniform uint probeKey;  // probe index ^ seed (cubeTexelKey, sampling.h)
+layout(std140, binding = kBakeBlock) uniform BakeUniforms { BakeBlock bake; };
 
 shared uint groupFetches;
 
@@ -27,14 +21,15 @@ void main() {
     barrier();
     ivec3 t = ivec3(gl_GlobalInvocationID);
     uint fetches = 0u;
-    if (t.x < res && t.y < res) {
-        uint index = cubeTexelIndex(t, res);
+    if (t.x < bake.res && t.y < bake.res) {
+        uint index = cubeTexelIndex(t, bake.res);
         vec4 g = texelFetch(gbuffer, t, 0);
         vec2 result = vec2(1.0);  // empty texel: open sky
         if (g.w > 0.0) {
-            HorizonParams hp = HorizonParams(probe, res, radius, directions, steps, falloff);
-            vec3 p = probe + cubeTexelDirection(t.z, t.xy, res) * g.w;
-            uint key = cubeTexelKey(t, res, probeKey);
+            HorizonParams hp =
+                HorizonParams(bake.probe, bake.res, bake.radius, bake.directions, bake.steps, bake.falloff);
+            vec3 p = bake.probe + cubeTexelDirection(t.z, t.xy, bake.res) * g.w;
+            uint key = cubeTexelKey(t, bake.res, bake.probeKey);
 #if ESTIMATOR == 0
             result = horizonSplitAo(hp, p, g.xyz, key, fetches);
 #else

@@ -17,13 +17,7 @@ layout(std430, binding = kBakeAoBuffer) buffer AoOut { vec2 aoConfidence[]; };
 layout(std430, binding = kBakeTexelListBuffer) readonly buffer TexelList { TexelListHeader header; uint texels[]; };
 #endif
 
-uniform vec3 probe;
-uniform int res;
-uniform float radius;
-uniform int spp;
-uniform int falloff;
-uniform float surfaceEpsilon;  // surfaceEpsilonFor(scene), as the Embree twin offsets its rays
-uniform uint probeKey;
+layout(std140, binding = kBakeBlock) uniform BakeUniforms { BakeBlock bake; };
 
 void main() {
 #ifdef TEXEL_LIST
@@ -31,31 +25,32 @@ void main() {
     uint index = texels[gl_GlobalInvocationID.x];
 #else
     uint index = gl_GlobalInvocationID.x;
-    if (index >= uint(kCubeFaces) * uint(res) * uint(res)) return;
+    if (index >= uint(kCubeFaces) * uint(bake.res) * uint(bake.res)) return;
 #endif
-    ivec3 t = cubeTexelOfIndex(index, res);
+    ivec3 t = cubeTexelOfIndex(index, bake.res);
     vec4 g = texelFetch(gbuffer, t, 0);
     if (!(g.w > 0.0)) {
         aoConfidence[index] = vec2(1.0);
         return;
     }
     vec3 n = g.xyz;
-    vec3 org = probe + cubeTexelDirection(t.z, t.xy, res) * g.w + surfaceEpsilon * n;
-    uint key = cubeTexelKey(t, res, probeKey);
+    vec3 org = bake.probe + cubeTexelDirection(t.z, t.xy, bake.res) * g.w + bake.surfaceEpsilon * n;
+    uint key = cubeTexelKey(t, bake.res, bake.probeKey);
     float occlusion = 0.0;
-    for (int k = 0; k < spp; ++k) {
-        vec3 dir = cosineHemisphere(rotatedHammersley(uint(k), uint(spp), key), n);
-        if (falloff == FALLOFF_NONE) {
-            occlusion += bvhOccluded(org, dir, 0.0, radius) ? 1.0 : 0.0;
+    for (int k = 0; k < bake.spp; ++k) {
+        vec3 dir = cosineHemisphere(rotatedHammersley(uint(k), uint(bake.spp), key), n);
+        if (bake.falloff == FALLOFF_NONE) {
+            occlusion += bvhOccluded(org, dir, 0.0, bake.radius) ? 1.0 : 0.0;
         } else {
             float hitT;
             uint triangle;
-            if (bvhIntersect(org, dir, 0.0, radius, hitT, triangle)) occlusion += occlusionWeight(falloff, hitT, radius);
+            if (bvhIntersect(org, dir, 0.0, bake.radius, hitT, triangle))
+                occlusion += occlusionWeight(bake.falloff, hitT, bake.radius);
         }
     }
 #ifdef TEXEL_LIST
-    aoConfidence[index].x = 1.0 - occlusion / float(spp);  // keep the horizon pass's confidence
+    aoConfidence[index].x = 1.0 - occlusion / float(bake.spp);  // keep the horizon pass's confidence
 #else
-    aoConfidence[index] = vec2(1.0 - occlusion / float(spp), 1.0);
+    aoConfidence[index] = vec2(1.0 - occlusion / float(bake.spp), 1.0);
 #endif
 }

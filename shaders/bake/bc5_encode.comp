@@ -15,17 +15,17 @@ layout(local_size_x = kBakeTileSize, local_size_y = kBakeTileSize) in;
 layout(std430, binding = kBakeAoBuffer) readonly buffer AoIn { vec2 aoConfidence[]; };  // cubeTexelIndex order
 layout(std430, binding = kBakeBlocksBuffer) writeonly buffer BlocksOut { uvec4 blocks[]; };  // red (xy), green (zw)
 
-uniform int res;  // a multiple of 4
+layout(std140, binding = kEncodeBlock) uniform EncodeUniforms { EncodeBlock encode; };
 
 void main() {
-    int blocksPerSide = res / 4;
+    int blocksPerSide = encode.res / 4;
     ivec3 id = ivec3(gl_GlobalInvocationID);
     if (id.x >= 2 * blocksPerSide || id.y >= blocksPerSide) return;
     int bx = id.x >> 1, channel = id.x & 1, by = id.y, face = id.z;
     int q[16];  // this invocation's block, in units
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 4; ++x) {
-            int texel = (face * res + 4 * by + y) * res + 4 * bx + x;
+            int texel = (face * encode.res + 4 * by + y) * encode.res + 4 * bx + x;
             q[4 * y + x] = bc4Quantise(aoConfidence[texel][channel]);
         }
     uvec2 words = bc4EncodeBlock(q);

@@ -16,12 +16,12 @@ layout(std430, binding = kBakeAoBuffer) readonly buffer AoIn { vec2 aoConfidence
 layout(std430, binding = kBakeBlocksBuffer) readonly buffer Blocks { uvec4 blocks[]; };   // red (xy), green (zw)
 layout(std430, binding = kBakeErrorTilesBuffer) writeonly buffer Partial { vec2 partial[]; };  // per tile: (Σ error², texels)
 
-uniform int res;
+layout(std140, binding = kEncodeBlock) uniform EncodeUniforms { EncodeBlock encode; };
 
 shared vec2 tile[kBakeTileSize * kBakeTileSize];
 
 void main() {
-    int blocksPerSide = res / 4;
+    int blocksPerSide = encode.res / 4;
     ivec3 b = ivec3(gl_GlobalInvocationID);
     vec2 sum = vec2(0.0);
     if (b.x < blocksPerSide && b.y < blocksPerSide) {
@@ -30,7 +30,7 @@ void main() {
         for (int t = 0; t < 16; ++t) {
             ivec3 texel = ivec3(4 * b.x + (t & 3), 4 * b.y + (t >> 2), b.z);
             if (!(texelFetch(gbuffer, texel, 0).w > 0.0)) continue;
-            float e = bc4Level(red0, red1, bc4Code(red, t)) - aoConfidence[cubeTexelIndex(texel, res)].x;
+            float e = bc4Level(red0, red1, bc4Code(red, t)) - aoConfidence[cubeTexelIndex(texel, encode.res)].x;
             sum += vec2(e * e, 1.0);
         }
     }

@@ -16,10 +16,10 @@
 // only PASS 0 makes it.
 layout(binding = kBakeGBufferUnit) uniform sampler2DArray gbuffer;  // (normal, distance) per texel, 6 layers
 float depthFineDistance(ivec3 texel) { return texelFetch(gbuffer, texel, 0).w; }
+layout(std140, binding = kEncodeBlock) uniform EncodeUniforms { EncodeBlock encode; };
 
 #if PASS == 0
 layout(local_size_x = kBakeTileSize, local_size_y = kBakeTileSize) in;
-uniform int res;
 #else
 layout(local_size_x = kBakeListGroupSize) in;
 #endif
@@ -28,8 +28,6 @@ layout(std430, binding = kBakeCoarseBuffer) buffer Coarse { float coarse[]; };  
 layout(std430, binding = kBakeMaxDistanceBuffer) buffer MaxDistance { uint maxBits; };  // floatBitsToUint of a value ≥ 0
 layout(std430, binding = kBakeDepthWordsBuffer) writeonly buffer Words { uint words[]; };
 
-uniform int depthRes;
-uniform int format;  // DepthFormat: kDepthR16Unorm, kDepthR16Float or kDepthR32Float
 
 #if PASS == 0
 shared uint groupMax;
@@ -38,9 +36,9 @@ void main() {
     if (gl_LocalInvocationIndex == 0u) groupMax = 0u;
     barrier();
     ivec3 c = ivec3(gl_GlobalInvocationID);
-    if (c.x < depthRes && c.y < depthRes) {
-        float m = depthCoarseMin(DepthDownsampleParams(res, depthRes), c);
-        coarse[(c.z * depthRes + c.y) * depthRes + c.x] = m;
+    if (c.x < encode.depthRes && c.y < encode.depthRes) {
+        float m = depthCoarseMin(DepthDownsampleParams(encode.res, encode.depthRes), c);
+        coarse[(c.z * encode.depthRes + c.y) * encode.depthRes + c.x] = m;
         atomicMax(groupMax, floatBitsToUint(m));  // non-negative floats order like their bits
     }
     barrier();
@@ -50,12 +48,13 @@ void main() {
 #else
 void main() {
     uint k = gl_GlobalInvocationID.x;
-    uint texels = 6u * uint(depthRes * depthRes);
+    uint texels = 6u * uint(encode.depthRes * encode.depthRes);
     float maxDistance = uintBitsToFloat(maxBits);
-    if (format == kDepthR32Float) {
-        if (k < texels) words[k] = depthEncodeTexel(coarse[k], format, maxDistance);
+    if (encode.format == kDepthR32Float) {
+        if (k < texels) words[k] = depthEncodeTexel(coarse[k], encode.format, maxDistance);
     } else if (2u * k < texels) {
-        words[k] = depthEncodeTexel(coarse[2u * k], format, maxDistance) | depthEncodeTexel(coarse[2u * k + 1u], format, maxDistance) << 16;
+        words[k] = depthEncodeTexel(coarse[2u * k], encode.format, maxDistance) |
+                   depthEncodeTexel(coarse[2u * k + 1u], encode.format, maxDistance) << 16;
     }
 }
 #endif

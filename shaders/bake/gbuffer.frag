@@ -5,12 +5,12 @@
 #include "bake_layout.h"
 
 layout(std430, binding = kBakeTriangleNormalsBuffer) readonly buffer TriangleNormals { vec4 triangleNormal[]; };
-uniform vec3 probe;
+layout(std140, binding = kBakeBlock) uniform BakeUniforms { BakeBlock bake; };
 in vec3 fWorld;
 layout(location = 0) out vec4 gbuffer;  // (normal, distance)
 
 void main() {
-    vec3 d = fWorld - probe;
+    vec3 d = fWorld - bake.probe;
     vec3 n = triangleNormal[gl_PrimitiveID].xyz;
     gbuffer = vec4(dot(n, d) > 0.0 ? -n : n, length(d));
 }

@@ -11,14 +11,13 @@ layout(binding = kBakeGBufferUnit) uniform sampler2DArray gbuffer;
 layout(std430, binding = kBakeAoBuffer) readonly buffer AoIn { vec2 aoConfidence[]; };
 layout(std430, binding = kBakeTexelListBuffer) buffer TexelList { TexelListHeader header; uint texels[]; };
 
-uniform int res;
-uniform float threshold;
+layout(std140, binding = kBakeBlock) uniform BakeUniforms { BakeBlock bake; };
 
 void main() {
     uint index = gl_GlobalInvocationID.x;
-    if (index >= uint(kCubeFaces) * uint(res) * uint(res)) return;
-    if (aoConfidence[index].y >= threshold) return;
-    ivec3 t = cubeTexelOfIndex(index, res);
+    if (index >= uint(kCubeFaces) * uint(bake.res) * uint(bake.res)) return;
+    if (aoConfidence[index].y >= bake.threshold) return;
+    ivec3 t = cubeTexelOfIndex(index, bake.res);
     if (!(texelFetch(gbuffer, t, 0).w > 0.0)) return;
     uint slot = atomicAdd(header.count, 1u);
     texels[slot] = index;

@@ -36,6 +36,11 @@ CUBEAO_CONST int kBakeDepthWordsBuffer = 7;   // depth_encode: the packed depth 
 CUBEAO_CONST int kBakeErrorTilesBuffer = 8;   // bc5_error: vec2 (Σ error², texels) per work group
 CUBEAO_CONST int kBakeAoSourceBuffer = 9;     // ao_denoise: the AO buffer as it was before the filter
 
+// Uniform block bindings (std140, filled by gl::UniformBlock; numbered apart from the run-time's in
+// runtime_layout.h, whose passes share a context with a live bake).
+CUBEAO_CONST int kBakeBlock = 8;    // the G-buffer and AO passes (gpu_bake.cpp): BakeBlock
+CUBEAO_CONST int kEncodeBlock = 9;  // bc5_encode, bc5_error, depth_encode: EncodeBlock
+
 // G-buffer lookups made by the horizon pass: a 64-bit count in two words (a probe at 512² can pass
 // 2³²; the carry is added by hand). Start it at zero.
 struct FetchCount {
@@ -53,6 +58,30 @@ struct TexelListHeader {
     uint count;
 };
 
+// A probe's bake parameters: what its G-buffer and AO passes read (each pass reads its own members).
+struct BakeBlock {
+    mat4 clipFromWorld[6];  // gbuffer.geom: every face's (core/cube.h clipFromWorld); gbuffer.vert
+                            // (six passes): the face being drawn, in [0]
+    vec3 probe;             // world space
+    int res;                // texels per face edge
+    float radius;           // the AO radius R
+    int falloff;            // FALLOFF_NONE | FALLOFF_SMOOTH (falloff.h)
+    uint probeKey;          // probe index ^ seed (cubeTexelKey, sampling.h)
+    int directions;         // ao_horizon
+    int steps;              // ao_horizon
+    int spp;                // ao_traced: rays per texel
+    float surfaceEpsilon;   // ao_traced: surfaceEpsilonFor(scene), as the Embree twin offsets its rays
+    int denoiseRadius;      // ao_denoise: the filter's radius in texels
+    float threshold;        // hybrid_select: texels less confident than this are traced
+};
+
+// The encoders' parameters.
+struct EncodeBlock {
+    int res;       // face edge in texels (BC5: a multiple of 4)
+    int depthRes;  // depth_encode: the coarse cube's face edge
+    int format;    // depth_encode: DepthFormat (kDepthR16Unorm, kDepthR16Float or kDepthR32Float)
+};
+
 CUBEAO_KERNEL_END
 
 #ifdef __cplusplus
@@ -60,6 +89,11 @@ CUBEAO_KERNEL_END
 
 namespace cubeao::kernel {
 static_assert(sizeof(FetchCount) == 8 && offsetof(FetchCount, fetchesHigh) == 4);
+// std140 offsets of the blocks (the driver's are checked in tests/runtime/test_runtime_layout.cpp).
+static_assert(offsetof(BakeBlock, probe) == 384 && offsetof(BakeBlock, res) == 396 &&
+              offsetof(BakeBlock, radius) == 400 && offsetof(BakeBlock, probeKey) == 408 && offsetof(BakeBlock, spp) == 420 &&
+              offsetof(BakeBlock, threshold) == 432 && sizeof(BakeBlock) == 436);
+static_assert(sizeof(EncodeBlock) == 12 && offsetof(EncodeBlock, format) == 8);
 // groupsX..Z are what glDispatchComputeIndirect reads at offset 0; the texel indices follow at 16.
 static_assert(sizeof(TexelListHeader) == 16 && offsetof(TexelListHeader, groupsY) == 4 &&
               offsetof(TexelListHeader, groupsZ) == 8 && offsetof(TexelListHeader, count) == 12);

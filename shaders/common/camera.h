@@ -3,10 +3,11 @@
 // view space looks down −z, x right, y up; pixel row 0 is the TOP row and the centre of pixel (x, y)
 // is (x + 0.5, y + 0.5); a camera G-buffer texel is the pixel with the same indices; view depth z > 0
 // is the distance along the view axis, 0 = no geometry.
-// Shaders get the kernels bound to the uniforms frameSize and tanHalfFovY (GLSL-only block at the end).
+// Shaders get the kernels bound to the frame's CameraBlock (GLSL-only block at the end).
 #pragma once
 
 #include "glsl_cpp.h"
+#include "runtime_layout.h"
 
 CUBEAO_KERNEL_BEGIN
 
@@ -27,14 +28,31 @@ CUBEAO_FN vec3 cameraViewPosition(ivec2 frameSize, float tanHalfFovY, ivec2 texe
 // Pixels per view-space unit at view depth 1 (the focal length in pixels).
 CUBEAO_FN float cameraFocalPixels(ivec2 frameSize, float tanHalfFovY) { return 0.5f * float(frameSize.y) / tanHalfFovY; }
 
+// A per-pixel pass's frame: one std140 uniform block at kCameraBlock that the pass fills from its
+// CameraView each frame (CameraView::block, src/cubeao/runtime/camera_view.h).
+struct CameraBlock {
+    mat4 worldFromView;  // view space to the world (project, coverage_count)
+    ivec2 frameSize;     // width, height in pixels
+    float tanHalfFovY;
+    uint frameKey;       // frame index ^ seed: the screen-space estimators' noise (ssao_pixel.glsl)
+};
+
 CUBEAO_KERNEL_END
 
-#ifndef __cplusplus
-uniform ivec2 frameSize;  // width, height in pixels
-uniform float tanHalfFovY;
+#ifdef __cplusplus
+#include <cstddef>  // offsetof
 
-vec3 pixelRay(vec2 pixel) { return cameraPixelRay(frameSize, tanHalfFovY, pixel); }
-vec3 viewPosition(ivec2 texel, float depth) { return cameraViewPosition(frameSize, tanHalfFovY, texel, depth); }
-float focalPixels() { return cameraFocalPixels(frameSize, tanHalfFovY); }
-bool onScreen(ivec2 texel) { return all(greaterThanEqual(texel, ivec2(0))) && all(lessThan(texel, frameSize)); }
+static_assert(offsetof(cubeao::kernel::CameraBlock, frameSize) == 64 &&
+                  offsetof(cubeao::kernel::CameraBlock, tanHalfFovY) == 72 &&
+                  offsetof(cubeao::kernel::CameraBlock, frameKey) == 76 && sizeof(cubeao::kernel::CameraBlock) == 80,
+              "CameraBlock must keep std140 offsets (the per-pixel passes read it as a uniform block)");
+#else
+layout(std140, binding = kCameraBlock) uniform CameraUniforms { CameraBlock camera; };
+
+vec3 pixelRay(vec2 pixel) { return cameraPixelRay(camera.frameSize, camera.tanHalfFovY, pixel); }
+vec3 viewPosition(ivec2 texel, float depth) {
+    return cameraViewPosition(camera.frameSize, camera.tanHalfFovY, texel, depth);
+}
+float focalPixels() { return cameraFocalPixels(camera.frameSize, camera.tanHalfFovY); }
+bool onScreen(ivec2 texel) { return all(greaterThanEqual(texel, ivec2(0))) && all(lessThan(texel, camera.frameSize)); }
 #endif

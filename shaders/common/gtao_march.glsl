@@ -13,7 +13,7 @@
 float estimateAo(vec3 p, vec3 n, float radiusPixels, vec2 jitter, inout uint fetches) {
     vec3 view = normalize(-p);
     vec2 centre = vec2(ssaoPixel) + 0.5;
-    int slices = directions / 2;
+    int slices = ssao.directions / 2;
     vec2 sums = vec2(0.0);  // gtaoAddSlice's (visible, open)
     for (int k = 0; k < slices; ++k) {
         float phi = kPi * (float(k) + jitter.x) / float(slices);
@@ -26,15 +26,15 @@ float estimateAo(vec3 p, vec3 n, float radiusPixels, vec2 jitter, inout uint fet
         for (int side = -1; side <= 1; side += 2) {
             float low = gtaoTangentCos(slice, float(side));  // the tangent: no occlusion
             float horizonCos = low;
-            for (int s = 0; s < steps; ++s) {
-                float t = radiusPixels * (float(s) + jitter.y) / float(steps);
+            for (int s = 0; s < ssao.steps; ++s) {
+                float t = radiusPixels * (float(s) + jitter.y) / float(ssao.steps);
                 vec3 q;
                 if (!samplePoint(centre + float(side) * t * screenDir, q, fetches)) continue;
                 vec3 v = q - p;
                 float dist = length(v);
-                if (dist > radius || !aboveTangentPlane(v, n)) continue;
+                if (dist > ssao.radius || !aboveTangentPlane(v, n)) continue;
                 float c = dot(v, view) / dist;  // 002 listing 3.22
-                horizonCos = gtaoRaisedCos(horizonCos, low, c, occlusionWeight(falloff, dist, radius));
+                horizonCos = gtaoRaisedCos(horizonCos, low, c, occlusionWeight(ssao.falloff, dist, ssao.radius));
             }
             arcs += gtaoSideArc(slice, float(side), horizonCos);
         }

@@ -24,7 +24,6 @@
 #include "texel_area.h"
 
 #ifdef __cplusplus
-#include <cstddef>  // offsetof
 
 #define CUBEAO_READER_FN template <class Reader> inline
 #define CUBEAO_READER(r) const Reader& r,
@@ -36,45 +35,6 @@
 #endif
 
 CUBEAO_KERNEL_BEGIN
-
-// The projection's resolved settings (src/cubeao/runtime/projection.h ProjectSettings) and the probes'
-// resolutions: AO texels per face side, distance-cube texels per face side.
-struct ProjectionParams {
-    float depthTolerance;
-    float depthSlope;
-    float minFacing;
-    int res;
-    int depthRes;
-};
-
-// project.comp's fixed parameters, one std140 uniform block at kProjectBlock: the candidate grid
-// (probe_grid.h), the second list (nearest_lists.h), what an uncovered pixel gets, and the
-// projection's settings. The three pads put params at a multiple of 16 (std140 aligns a struct
-// member so), the same offset in C++.
-struct ProjectBlock {
-    vec3 gridOrigin;
-    float cellSize;
-    ivec3 gridDims;
-    int candidatesPerCell;
-    vec3 residentOrigin;     // the second list: per coarse cell the resident probes nearest it,
-    float residentCellSize;  // residentPerCell of them (0: no second list)
-    ivec3 residentDims;
-    int residentPerCell;
-    float uncoveredAo;
-    float pad0;
-    float pad1;
-    float pad2;
-    ProjectionParams params;
-};
-
-#ifdef __cplusplus
-static_assert(offsetof(ProjectBlock, cellSize) == 12 && offsetof(ProjectBlock, gridDims) == 16 &&
-              offsetof(ProjectBlock, candidatesPerCell) == 28 && offsetof(ProjectBlock, residentOrigin) == 32 &&
-              offsetof(ProjectBlock, residentCellSize) == 44 && offsetof(ProjectBlock, residentDims) == 48 &&
-              offsetof(ProjectBlock, residentPerCell) == 60 && offsetof(ProjectBlock, uncoveredAo) == 64 &&
-              offsetof(ProjectBlock, params) == 80 && sizeof(ProjectionParams) == 20,
-              "ProjectBlock must keep std140 offsets (project.comp reads it as a uniform block)");
-#endif
 
 // Whether the probe sees the point: its seen side faces the probe, the probe saw a surface that way
 // (an empty texel holds no AO for the point either) and that surface is the point's (depth_test.h).

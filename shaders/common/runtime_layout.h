@@ -34,7 +34,13 @@ CUBEAO_CONST int kDiagnosticsImageUnit = 2;  // RGBA32F diagnostics of project.c
 // Uniform block bindings (std140 blocks of kernel parameters, filled by gl::UniformBlock from their
 // C++ mirror; offsets static_asserted beside the struct and checked against the driver in
 // tests/runtime/test_runtime_layout.cpp).
-CUBEAO_CONST int kProjectBlock = 0;  // project: ProjectBlock (projection.h)
+// Numbered apart from the bake's (bake_layout.h) and placement's (placement_layout.h) blocks.
+CUBEAO_CONST int kProjectBlock = 0;    // project, cell_residency: ProjectBlock (below)
+CUBEAO_CONST int kCameraBlock = 2;     // every per-pixel pass but the composite: CameraBlock (camera.h)
+CUBEAO_CONST int kSsaoBlock = 3;       // ssao/*, gtao_fill: SsaoBlock
+CUBEAO_CONST int kBlurBlock = 4;       // blur: BlurBlock
+CUBEAO_CONST int kCompositeBlock = 5;  // composite: CompositeBlock
+CUBEAO_CONST int kGBufferBlock = 6;    // the camera G-buffer's vertex and fragment stages: GBufferBlock
 
 // Shader storage buffer bindings.
 CUBEAO_CONST int kTriangleNormalsBuffer = 0;  // G-buffer: one world-space vec4 normal per triangle (gl/gpu_mesh.h)
@@ -152,6 +158,76 @@ struct FallbackCounters {
     uint fetchesHigh;
 };
 
+// The projection's resolved settings (src/cubeao/runtime/projection.h ProjectSettings) and the probes'
+// resolutions: AO texels per face side, distance-cube texels per face side.
+struct ProjectionParams {
+    float depthTolerance;
+    float depthSlope;
+    float minFacing;
+    int res;
+    int depthRes;
+};
+
+// project.comp's fixed parameters, one std140 uniform block at kProjectBlock: the candidate grid
+// (probe_grid.h), the second list (nearest_lists.h), what an uncovered pixel gets, and the
+// projection's settings. The two pads put params at a multiple of 16 (std140 aligns a struct
+// member so), the same offset in C++. cell_residency.comp reads the grid's part.
+struct ProjectBlock {
+    vec3 gridOrigin;
+    float cellSize;
+    ivec3 gridDims;
+    int candidatesPerCell;
+    vec3 residentOrigin;     // the second list: per coarse cell the resident probes nearest it,
+    float residentCellSize;  // residentPerCell of them (0: no second list)
+    ivec3 residentDims;
+    int residentPerCell;
+    float uncoveredAo;
+    uint cellCount;  // gridDims' product
+    float pad1;
+    float pad2;
+    ProjectionParams params;
+};
+
+// The screen-space estimators' settings (ssao_pixel.glsl; SsaoSettings, ssao_pass.h), fixed for a
+// pass's lifetime. Alchemy alone reads the last four.
+struct SsaoBlock {
+    float radius;           // R, world units
+    int falloff;            // FALLOFF_NONE | FALLOFF_SMOOTH (falloff.h)
+    int directions;         // N_d
+    int steps;              // N_s
+    float maxRadiusPixels;  // 0 = no clamp
+    float intensity;        // alchemy: σ
+    float contrast;         // alchemy: k
+    float bias;             // alchemy: β
+    float epsilon;          // alchemy: ε / R²
+};
+
+// The bilateral blur's settings (blur.h BlurSettings) and the axis of the pass being run.
+struct BlurBlock {
+    ivec2 axis;  // (1, 0) horizontal, (0, 1) vertical
+    int radius;
+    float normalPower;
+    float depthTolerance;
+};
+
+// The composite's shading (composite.h CompositeSettings) and the frame's light and size.
+struct CompositeBlock {
+    vec3 light;  // view space, towards the light
+    float alpha;
+    vec3 albedo;
+    float ambient;
+    vec3 sky;
+    float diffuse;
+    ivec2 frameSize;
+};
+
+// The camera G-buffer's transforms (camera_gbuffer.cpp); the fragment stage rotates the triangle
+// normals by mat3(viewFromWorld).
+struct GBufferBlock {
+    mat4 viewFromWorld;
+    mat4 clipFromView;
+};
+
 CUBEAO_KERNEL_END
 
 #ifdef __cplusplus
@@ -169,6 +245,23 @@ static_assert(sizeof(FallbackList) == 16 && offsetof(FallbackList, groupsZ) == 8
               offsetof(FallbackList, entries) == 12);
 static_assert(sizeof(FallbackCounters) == 16 && offsetof(FallbackCounters, blended) == 4 &&
               offsetof(FallbackCounters, fetchesLow) == 8 && offsetof(FallbackCounters, fetchesHigh) == 12);
+static_assert(offsetof(ProjectBlock, cellSize) == 12 && offsetof(ProjectBlock, gridDims) == 16 &&
+              offsetof(ProjectBlock, candidatesPerCell) == 28 && offsetof(ProjectBlock, residentOrigin) == 32 &&
+              offsetof(ProjectBlock, residentCellSize) == 44 && offsetof(ProjectBlock, residentDims) == 48 &&
+              offsetof(ProjectBlock, residentPerCell) == 60 && offsetof(ProjectBlock, uncoveredAo) == 64 &&
+              offsetof(ProjectBlock, cellCount) == 68 &&
+              offsetof(ProjectBlock, params) == 80 && sizeof(ProjectionParams) == 20,
+              "ProjectBlock must keep std140 offsets (project.comp reads it as a uniform block)");
+// std140 offsets of the blocks above (each block holds one of these structs; the driver's offsets
+// are checked in tests/runtime/test_runtime_layout.cpp).
+static_assert(sizeof(SsaoBlock) == 36 && offsetof(SsaoBlock, maxRadiusPixels) == 16 &&
+              offsetof(SsaoBlock, epsilon) == 32);
+static_assert(sizeof(BlurBlock) == 20 && offsetof(BlurBlock, radius) == 8 && offsetof(BlurBlock, depthTolerance) == 16);
+static_assert(sizeof(CompositeBlock) == 56 && offsetof(CompositeBlock, alpha) == 12 &&
+              offsetof(CompositeBlock, albedo) == 16 && offsetof(CompositeBlock, ambient) == 28 &&
+              offsetof(CompositeBlock, sky) == 32 && offsetof(CompositeBlock, diffuse) == 44 &&
+              offsetof(CompositeBlock, frameSize) == 48);
+static_assert(sizeof(GBufferBlock) == 128 && offsetof(GBufferBlock, clipFromView) == 64);
 static_assert(kFallbackBlendPixels >= 1 && kFallbackBlendPixels <= kPixelGroupSize);  // d² < 64: 6 bits
 
 // What one PassCounters would hold had every group counted into it: the sum of the stripes.

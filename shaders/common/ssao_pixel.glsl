@@ -1,4 +1,4 @@
-// The per-pixel kernel of every screen-space AO estimate: G-buffer bindings, the method's uniforms,
+// The per-pixel kernel of every screen-space AO estimate: G-buffer bindings, the method's settings,
 // the pixel's setup (surface point, projected radius, jitter) and the sample lookup the estimators
 // march with. Two frames run it: shaders/common/ssao.glsl (every pixel: the baselines, ssao_pass.h)
 // and shaders/ssao/gtao_fill.comp (only the pixels the probe projection left open: gtao_fallback.h),
@@ -18,12 +18,8 @@
 layout(binding = kGBufferDepthUnit) uniform sampler2D gDepth;
 layout(binding = kGBufferNormalUnit) uniform sampler2D gNormal;
 
-uniform float radius;           // R, world units
-uniform int falloff;            // FALLOFF_NONE | FALLOFF_SMOOTH (falloff.h)
-uniform int directions;         // N_d
-uniform int steps;              // N_s
-uniform float maxRadiusPixels;  // 0 = no clamp
-uniform uint frameKey;          // frame index ^ seed
+// The method's settings (runtime_layout.h SsaoBlock); the frame's noise key is camera.frameKey.
+layout(std140, binding = kSsaoBlock) uniform SsaoUniforms { SsaoBlock ssao; };
 
 float estimateAo(vec3 p, vec3 n, float radiusPixels, vec2 jitter, inout uint fetches);
 
@@ -62,9 +58,9 @@ float ssaoPixelAo(ivec2 pixel, float z, inout uint fetches) {
         fetches += 1u;
         vec3 n = texelFetch(gNormal, pixel, 0).xyz;
         vec3 p = viewPosition(pixel, z);
-        float radiusPixels = radius * focalPixels() / z;
-        if (maxRadiusPixels > 0.0) radiusPixels = min(radiusPixels, maxRadiusPixels);
-        uint key = hashKey(uint(pixel.x), uint(pixel.y), frameKey);
+        float radiusPixels = ssao.radius * focalPixels() / z;
+        if (ssao.maxRadiusPixels > 0.0) radiusPixels = min(radiusPixels, ssao.maxRadiusPixels);
+        uint key = hashKey(uint(pixel.x), uint(pixel.y), camera.frameKey);
         vec2 jitter = marchJitter(key);
         // Under a pixel the march finds only the pixel itself: nothing to resolve.
         if (radiusPixels >= 1.0) ao = clamp(estimateAo(p, n, radiusPixels, jitter, fetches), 0.0, 1.0);

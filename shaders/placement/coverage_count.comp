@@ -19,7 +19,6 @@ layout(binding = kGBufferNormalUnit) uniform sampler2D normalTex;
 layout(std430, binding = kCoverageProbeBuffer) restrict readonly buffer Probes { vec4 probes[]; };
 layout(std430, binding = kCoverageCounterBuffer) restrict buffer Counters { CoverageCounters counters; };
 
-uniform mat4 worldFromView;
 layout(std140, binding = kCoverageBlock) uniform CoverageUniforms { CoverageBlock frame; };
 
 shared uint groupPixels, groupUncovered;
@@ -47,8 +46,8 @@ void main() {
     if (onScreen(px)) {
         float depth = texelFetch(depthTex, px, 0).r;
         if (depth > 0.0) {
-            vec3 x = (worldFromView * vec4(viewPosition(px, depth), 1.0)).xyz;
-            vec3 n = normalize(mat3(worldFromView) * texelFetch(normalTex, px, 0).xyz);
+            vec3 x = (camera.worldFromView * vec4(viewPosition(px, depth), 1.0)).xyz;
+            vec3 n = normalize(mat3(camera.worldFromView) * texelFetch(normalTex, px, 0).xyz);
             atomicAdd(groupPixels, 1u);
             if (!covered(x, n)) atomicAdd(groupUncovered, 1u);
         }

@@ -1,6 +1,6 @@
 #version 450 core
 // One pass of the separable edge-aware AO blur (src/cubeao/runtime/blur.h): 2·radius + 1 taps along
-// `axis`, the spatial times the bilateral weight of common/bilateral.h for each tap. Twin: blurAoCpu in
+// the block's axis, the spatial times the bilateral weight of common/bilateral.h for each tap. Twin: blurAoCpu in
 // blur.cpp (same weights; its tap loop reads an Image instead of textures).
 #include "bilateral.h"
 #include "camera.h"
@@ -13,10 +13,7 @@ layout(binding = kGBufferNormalUnit) uniform sampler2D gNormal;
 layout(binding = kAoInputUnit) uniform sampler2D aoIn;
 layout(r32f, binding = kAoImageUnit) writeonly uniform image2D aoOut;
 
-uniform ivec2 axis;  // (1, 0) horizontal, (0, 1) vertical
-uniform int radius;
-uniform float normalPower;
-uniform float depthTolerance;
+layout(std140, binding = kBlurBlock) uniform BlurUniforms { BlurBlock blur; };
 
 void main() {
     ivec2 c = ivec2(gl_GlobalInvocationID.xy);
@@ -27,14 +24,14 @@ void main() {
         vec3 nc = texelFetch(gNormal, c, 0).xyz;
         vec3 pc = viewPosition(c, zc);
         float sum = ao, weights = 1.0;
-        for (int i = -radius; i <= radius; ++i) {
-            ivec2 s = c + i * axis;
+        for (int i = -blur.radius; i <= blur.radius; ++i) {
+            ivec2 s = c + i * blur.axis;
             if (i == 0 || !onScreen(s)) continue;
             float zs = texelFetch(gDepth, s, 0).r;
             if (!(zs > 0.0)) continue;
-            float w = bilateralSpatialWeight(i, radius) *
-                      bilateralWeight(nc, pc, zc, texelFetch(gNormal, s, 0).xyz, viewPosition(s, zs), normalPower,
-                                      depthTolerance);
+            float w = bilateralSpatialWeight(i, blur.radius) *
+                      bilateralWeight(nc, pc, zc, texelFetch(gNormal, s, 0).xyz, viewPosition(s, zs),
+                                      blur.normalPower, blur.depthTolerance);
             sum += w * texelFetch(aoIn, s, 0).r;
             weights += w;
         }

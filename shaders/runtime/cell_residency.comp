@@ -12,15 +12,15 @@ layout(std430, binding = kProbeTableBuffer) readonly buffer ProbeTable { ProbeEn
 layout(std430, binding = kCandidateBuffer) readonly buffer Candidates { uint candidates[]; };
 layout(std430, binding = kCellResidentCountBuffer) writeonly buffer CellResidentCounts { uint residentCount[]; };
 
-uniform uint cellCount;
-uniform int candidatesPerCell;
+// The candidate grid's cell count and K (ProjectBlock, the projection's own block).
+layout(std140, binding = kProjectBlock) uniform ProjectUniforms { ProjectBlock pass; };
 
 void main() {
     // A grid can have more cells than one dispatch has invocations along x: stride over them.
-    for (uint c = gl_GlobalInvocationID.x; c < cellCount; c += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
+    for (uint c = gl_GlobalInvocationID.x; c < pass.cellCount; c += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
         uint resident = 0u;
-        for (int k = 0; k < candidatesPerCell; ++k) {
-            uint probe = candidates[c * uint(candidatesPerCell) + uint(k)];
+        for (int k = 0; k < pass.candidatesPerCell; ++k) {
+            uint probe = candidates[c * uint(pass.candidatesPerCell) + uint(k)];
             if (probe == kNoProbe) break;
             if (probes[probe].tile != kNoSlot) resident += 1u;
         }

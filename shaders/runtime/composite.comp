@@ -11,20 +11,14 @@ layout(binding = kGBufferNormalUnit) uniform sampler2D gNormal;
 layout(binding = kAoInputUnit) uniform sampler2D aoIn;
 layout(rgba8, binding = kShadedImageUnit) writeonly uniform image2D shaded;
 
-uniform ivec2 frameSize;
-uniform vec3 light;  // view space, towards the light
-uniform float alpha;
-uniform float ambient;
-uniform float diffuse;
-uniform vec3 albedo;
-uniform vec3 sky;
+layout(std140, binding = kCompositeBlock) uniform CompositeUniforms { CompositeBlock composite; };
 
 void main() {
     ivec2 c = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(c, frameSize))) return;
-    vec3 colour = clamp(sky, 0.0, 1.0);
+    if (any(greaterThanEqual(c, composite.frameSize))) return;
+    vec3 colour = clamp(composite.sky, 0.0, 1.0);
     if (texelFetch(gDepth, c, 0).r > 0.0)
-        colour = compositeColour(texelFetch(gNormal, c, 0).xyz, light, texelFetch(aoIn, c, 0).r, albedo, ambient, diffuse,
-                                 alpha);
+        colour = compositeColour(texelFetch(gNormal, c, 0).xyz, composite.light, texelFetch(aoIn, c, 0).r,
+                                 composite.albedo, composite.ambient, composite.diffuse, composite.alpha);
     imageStore(shaded, c, vec4(colour, 1.0));
 }

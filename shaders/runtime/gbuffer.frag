@@ -5,13 +5,13 @@
 #include "runtime_layout.h"
 
 layout(std430, binding = kTriangleNormalsBuffer) readonly buffer TriangleNormals { vec4 triangleNormal[]; };  // world space
-uniform mat3 viewFromWorldRotation;
+layout(std140, binding = kGBufferBlock) uniform GBufferUniforms { GBufferBlock transforms; };
 in vec3 fView;
 layout(location = 0) out float depth;
 layout(location = 1) out vec4 normal;
 
 void main() {
-    vec3 n = viewFromWorldRotation * triangleNormal[gl_PrimitiveID].xyz;
+    vec3 n = mat3(transforms.viewFromWorld) * triangleNormal[gl_PrimitiveID].xyz;
     depth = -fView.z;
     normal = vec4(dot(n, fView) > 0.0 ? -n : n, 0.0);
 }

@@ -1,13 +1,14 @@
 #version 450 core
 // Camera G-buffer, vertex stage (src/cubeao/runtime/camera_gbuffer.h): world positions in, view-space
 // position out for the fragment stage, reversed-Z clip position (camera_view.h clipFromView).
+#include "runtime_layout.h"
+
 layout(location = 0) in vec3 position;
-uniform mat4 viewFromWorld;
-uniform mat4 clipFromView;
+layout(std140, binding = kGBufferBlock) uniform GBufferUniforms { GBufferBlock transforms; };
 out vec3 fView;
 
 void main() {
-    vec4 v = viewFromWorld * vec4(position, 1.0);
+    vec4 v = transforms.viewFromWorld * vec4(position, 1.0);
     fView = v.xyz;
-    gl_Position = clipFromView * v;
+    gl_Position = transforms.clipFromView * v;
 }

@@ -50,7 +50,6 @@ layout(std430, binding = kResidentCandidateBuffer) readonly buffer ResidentCandi
 layout(std430, binding = kCellResidentCountBuffer) readonly buffer CellResidentCounts { uint residentCount[]; };
 layout(std430, binding = kProbeFeedbackBuffer) buffer Feedback { uint demand[]; };
 
-uniform mat4 worldFromView;
 // The pass's fixed parameters (projection.h ProjectBlock, filled by probe_projection.cpp).
 layout(std140, binding = kProjectBlock) uniform ProjectUniforms { ProjectBlock pass; };
 
@@ -112,8 +111,8 @@ void main() {
 #endif
         fetches += 1u;
         if (depth > 0.0) {
-            vec3 x = (worldFromView * vec4(viewPosition(px, depth), 1.0)).xyz;
-            vec3 n = normalize(mat3(worldFromView) * texelFetch(normalTex, px, 0).xyz);
+            vec3 x = (camera.worldFromView * vec4(viewPosition(px, depth), 1.0)).xyz;
+            vec3 n = normalize(mat3(camera.worldFromView) * texelFetch(normalTex, px, 0).xyz);
             fetches += 1u;
             ivec3 cell = candidateCellOf(x, pass.gridOrigin, pass.cellSize, pass.gridDims);
             uint cellIndex = uint((cell.z * pass.gridDims.y + cell.y) * pass.gridDims.x + cell.x);

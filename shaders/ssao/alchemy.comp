@@ -10,17 +10,14 @@
 //    falloff weight; the spiral is area-uniform (radius ∝ √α) so the sum estimates an area integral.
 #include "ssao.glsl"
 
-uniform float intensity;  // σ
-uniform float contrast;   // k
-uniform float bias;       // β
-uniform float epsilon;    // ε / R²
+// ssao.intensity = σ, ssao.contrast = k, ssao.bias = β, ssao.epsilon = ε / R² (SsaoBlock).
 
 const float kGoldenAngle = 2.39996322972865332;  // π(3 − √5): a Vogel spiral covers the disk evenly
 
 float estimateAo(vec3 p, vec3 n, float radiusPixels, vec2 jitter, inout uint fetches) {
     vec2 centre = vec2(ssaoPixel) + 0.5;
-    int samples = directions * steps;
-    float eps = epsilon * radius * radius;
+    int samples = ssao.directions * ssao.steps;
+    float eps = ssao.epsilon * ssao.radius * ssao.radius;
     float sum = 0.0;
     for (int i = 0; i < samples; ++i) {
         float alpha = (float(i) + jitter.y) / float(samples);
@@ -29,8 +26,9 @@ float estimateAo(vec3 p, vec3 n, float radiusPixels, vec2 jitter, inout uint fet
         if (!samplePoint(centre + radiusPixels * sqrt(alpha) * vec2(cos(angle), sin(angle)), q, fetches)) continue;
         vec3 v = q - p;
         float vv = dot(v, v);
-        if (vv > radius * radius) continue;
-        sum += occlusionWeight(falloff, sqrt(vv), radius) * radius * max(0.0, dot(v, n) + p.z * bias) / (vv + eps);
+        if (vv > ssao.radius * ssao.radius) continue;
+        sum += occlusionWeight(ssao.falloff, sqrt(vv), ssao.radius) * ssao.radius *
+               max(0.0, dot(v, n) + p.z * ssao.bias) / (vv + eps);
     }
-    return pow(max(0.0, 1.0 - 2.0 * intensity / float(samples) * sum), contrast);
+    return pow(max(0.0, 1.0 - 2.0 * ssao.intensity / float(samples) * sum), ssao.contrast);
 }

@@ -45,7 +45,7 @@ const int kBandSquared = kFallbackBlendPixels * kFallbackBlendPixels;
 const uint kGroupInvocations = uint(kPixelGroupSize * kPixelGroupSize);
 
 // Tiles (8 × 8 pixels, the work groups of select) per axis.
-ivec2 tileCount() { return (frameSize + kPixelGroupSize - 1) / kPixelGroupSize; }
+ivec2 tileCount() { return (camera.frameSize + kPixelGroupSize - 1) / kPixelGroupSize; }
 bool tileOnScreen(ivec2 tile) { return all(greaterThanEqual(tile, ivec2(0))) && all(lessThan(tile, tileCount())); }
 uint tileIndex(ivec2 tile) { return uint(tile.y * tileCount().x + tile.x); }
 
@@ -69,11 +69,11 @@ void main() {
     ivec2 tile = ivec2(gl_WorkGroupID.x * uint(kPixelGroupSize) + gl_LocalInvocationID.x, gl_WorkGroupID.y);
     int row = int(gl_LocalInvocationID.y);
     int y = tile.y * kPixelGroupSize + row;
-    if (!tileOnScreen(tile) || y >= frameSize.y) return;
+    if (!tileOnScreen(tile) || y >= camera.frameSize.y) return;
     uint bits = 0u;  // bit x: pixel x of the row is uncovered
     for (int x = 0; x < kPixelGroupSize; ++x) {
         ivec2 pixel = ivec2(tile.x * kPixelGroupSize + x, y);
-        if (pixel.x < frameSize.x && imageLoad(aoImage, pixel).r < 0.0) bits |= 1u << uint(x);
+        if (pixel.x < camera.frameSize.x && imageLoad(aoImage, pixel).r < 0.0) bits |= 1u << uint(x);
     }
     if (bits == 0u) return;
     uint t = tileIndex(tile);

@@ -15,8 +15,8 @@ float estimateAo(vec3 p, vec3 n, float radiusPixels, vec2 jitter, inout uint fet
     vec3 view = normalize(-p);
     vec2 centre = vec2(ssaoPixel) + 0.5;
     float occlusion = 0.0;
-    for (int k = 0; k < directions; ++k) {
-        float phi = kTwoPi * (float(k) + jitter.x) / float(directions);
+    for (int k = 0; k < ssao.directions; ++k) {
+        float phi = kTwoPi * (float(k) + jitter.x) / float(ssao.directions);
         vec2 screenDir = vec2(cos(phi), sin(phi));  // pixels, y down
         vec3 towards = vec3(screenDir.x, -screenDir.y, 0.0);
         vec3 dir = normalize(towards - view * dot(towards, view));  // in the slice, ⟂ view
@@ -26,19 +26,19 @@ float estimateAo(vec3 p, vec3 n, float radiusPixels, vec2 jitter, inout uint fet
         float len = length(tangent);
         if (!(len > 1e-6)) continue;
         float sinHorizon = tangent.y / len;  // sin t
-        for (int s = 0; s < steps; ++s) {
-            float t = radiusPixels * (float(s) + jitter.y) / float(steps);
+        for (int s = 0; s < ssao.steps; ++s) {
+            float t = radiusPixels * (float(s) + jitter.y) / float(ssao.steps);
             vec3 q;
             if (!samplePoint(centre + t * screenDir, q, fetches)) continue;
             vec3 v = q - p;
             float dist = length(v);
-            if (dist > radius || !aboveTangentPlane(v, n)) continue;
+            if (dist > ssao.radius || !aboveTangentPlane(v, n)) continue;
             float sinElevation = dot(v, view) / dist;
             if (sinElevation > sinHorizon) {
-                occlusion += occlusionWeight(falloff, dist, radius) * (sinElevation - sinHorizon);
+                occlusion += occlusionWeight(ssao.falloff, dist, ssao.radius) * (sinElevation - sinHorizon);
                 sinHorizon = sinElevation;
             }
         }
     }
-    return 1.0 - occlusion / float(directions);
+    return 1.0 - occlusion / float(ssao.directions);
 }

@@ -8,7 +8,8 @@
 // previews of `cubeao render` and engines' AO maps store them: an sRGB encode would lift AO 0.8 to
 // 0.91 and leave the occlusion the viewer exists to show barely visible. "Shading by AO" multiplies a
 // display colour by the AO. The result is written as is for a plain RGBA8 framebuffer, or decoded
-// to linear when the framebuffer encodes by itself (encodeSrgb false).
+// to linear when the framebuffer encodes by itself (viewer.encodeSrgb 0).
+#include "viewer_layout.h"
 
 layout(binding = SHADED_UNIT) uniform sampler2D shadedTex;            // RGBA8, linear
 layout(binding = AO_UNIT) uniform sampler2D aoTex;                    // R32F, 1 = open
@@ -16,11 +17,7 @@ layout(binding = DIAGNOSTICS_UNIT) uniform sampler2D diagnosticsTex;  // RGBA32F
 layout(binding = BASELINE_UNIT) uniform sampler2D baselineTex;        // R32F
 layout(binding = REFERENCE_UNIT) uniform sampler2D referenceTex;      // R32F
 
-uniform int mode;
-uniform ivec4 viewportRect;    // x, y, width, height of the viewport drawn into
-uniform float footprintScale;  // world units per texel at the middle of the footprint ramp
-uniform bool hasAo;            // aoTex is bound (the diagnostic modes shade by it when it is)
-uniform bool encodeSrgb;       // write sRGB-encoded colour (a plain RGBA8 framebuffer)
+layout(std140, binding = kViewBlock) uniform ViewUniforms { ViewBlock viewer; };
 
 out vec4 colour;
 
@@ -35,7 +32,7 @@ const float kDiffFullScale = 0.25;                 // |AO − reference| at full
 // are stored top row first, camera_view.h; GL's window row 0 is the bottom).
 ivec2 texelOf(sampler2D tex) {
     ivec2 size = textureSize(tex, 0);
-    vec2 uv = (gl_FragCoord.xy - vec2(viewportRect.xy)) / vec2(viewportRect.zw);
+    vec2 uv = (gl_FragCoord.xy - vec2(viewer.viewportRect.xy)) / vec2(viewer.viewportRect.zw);
     uv.y = 1.0 - uv.y;
     return clamp(ivec2(floor(uv * vec2(size))), ivec2(0), size - 1);
 }
@@ -97,38 +94,38 @@ float aoGrey(float ao) { return clamp(ao, 0.0, 1.0); }
 
 // How much a diagnostic colour is darkened by the AO: `strength` 0 = not at all, 1 = like the AO grey.
 float aoShade(float strength) {
-    if (!hasAo) return 1.0;
+    if (viewer.hasAo == 0) return 1.0;
     return mix(1.0, aoGrey(texelFetch(aoTex, texelOf(aoTex), 0).r), strength);
 }
 
 vec3 diagnosticColour(vec4 d) {
     int path = int(d.a + 0.5);
     if (path == 0) return kSky;
-    if (mode == MODE_PATH) {
+    if (viewer.mode == MODE_PATH) {
         if (path == 2) return kAmber * aoShade(0.6);
         if (path == 3) return kMagenta * aoShade(0.6);
-        return vec3(hasAo ? aoShade(1.0) : 0.75);  // probe: the neutral grey of the AO
+        return vec3(viewer.hasAo != 0 ? aoShade(1.0) : 0.75);  // probe: the neutral grey of the AO
     }
     if (path == 3) return vec3(0.42) * aoShade(0.7);  // uncovered: no probe, no value; a dim neutral grey
-    if (mode == MODE_PROBE_ID) return probeColour(uint(d.r + 0.5)) * aoShade(0.75);
-    if (mode == MODE_FOOTPRINT) {
+    if (viewer.mode == MODE_PROBE_ID) return probeColour(uint(d.r + 0.5)) * aoShade(0.75);
+    if (viewer.mode == MODE_FOOTPRINT) {
         // Fine (≤ 1/8 of the scale) → coarse (≥ 8×), logarithmic: the scale itself is the middle.
-        float t = clamp(0.5 + log2(max(d.g, 1e-20) / footprintScale) / 6.0, 0.0, 1.0);
+        float t = clamp(0.5 + log2(max(d.g, 1e-20) / viewer.footprintScale) / 6.0, 0.0, 1.0);
         return viridis(t) * aoShade(0.7);
     }
     return plasma(clamp(d.b, 0.0, 1.0)) * aoShade(0.7);  // MODE_CONFIDENCE
 }
 
 vec3 displayColour() {
-    if (mode == MODE_SHADED) return clamp(texelFetch(shadedTex, texelOf(shadedTex), 0).rgb, 0.0, 1.0);
-    if (mode == MODE_AO) return vec3(aoGrey(texelFetch(aoTex, texelOf(aoTex), 0).r));
-    if (mode == MODE_BASELINE) return vec3(aoGrey(texelFetch(baselineTex, texelOf(baselineTex), 0).r));
-    if (mode == MODE_REFERENCE_DIFF) {
+    if (viewer.mode == MODE_SHADED) return clamp(texelFetch(shadedTex, texelOf(shadedTex), 0).rgb, 0.0, 1.0);
+    if (viewer.mode == MODE_AO) return vec3(aoGrey(texelFetch(aoTex, texelOf(aoTex), 0).r));
+    if (viewer.mode == MODE_BASELINE) return vec3(aoGrey(texelFetch(baselineTex, texelOf(baselineTex), 0).r));
+    if (viewer.mode == MODE_REFERENCE_DIFF) {
         float diff = texelFetch(aoTex, texelOf(aoTex), 0).r - texelFetch(referenceTex, texelOf(referenceTex), 0).r;
         float t = clamp(diff / kDiffFullScale, -1.0, 1.0);
         return mix(vec3(1.0), t < 0.0 ? kDiffDarker : kDiffBrighter, abs(t));
     }
-    if (mode == MODE_UNAVAILABLE) {  // diagonal stripes: clearly not an image
+    if (viewer.mode == MODE_UNAVAILABLE) {  // diagonal stripes: clearly not an image
         float stripe = mod(floor((gl_FragCoord.x + gl_FragCoord.y) / 12.0), 2.0);
         return mix(vec3(0.16, 0.16, 0.17), vec3(0.24, 0.24, 0.26), stripe);
     }
@@ -137,5 +134,5 @@ vec3 displayColour() {
 
 void main() {
     vec3 c = displayColour();
-    colour = vec4(encodeSrgb ? c : srgbDecode(c), 1.0);
+    colour = vec4(viewer.encodeSrgb != 0 ? c : srgbDecode(c), 1.0);
 }

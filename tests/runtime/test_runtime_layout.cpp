@@ -11,44 +11,22 @@
 
 #include "common/bake_layout.h"
 #include "common/bvh.h"
+#include "common/camera.h"
 #include "common/placement_layout.h"
 #include "common/projection.h"
 #include "common/runtime_layout.h"
+#include "common/viewer_layout.h"
 #include "cubeao/gl/handles.h"
 #include "cubeao/gl/shader.h"
 #include "cubeao/gl/uniform_block.h"
 #include "gl_fixture.h"
+#include "gl_interface.h"
 
 namespace {
 
 using namespace cubeao;
+using namespace cubeao::test;
 namespace k = cubeao::kernel;
-
-// The unit a sampler or image uniform is bound to; −1 when the program has no such active uniform.
-GLint unitOf(GLuint program, const char* name) {
-    const GLint location = glGetUniformLocation(program, name);
-    if (location < 0) return -1;
-    GLint unit = -1;
-    glGetUniformiv(program, location, &unit);
-    return unit;
-}
-
-// One property of a program resource; −1 when there is no such resource.
-GLint resourceProperty(GLuint program, GLenum interface, const char* name, GLenum property) {
-    const GLuint index = glGetProgramResourceIndex(program, interface, name);
-    if (index == GL_INVALID_INDEX) return -1;
-    GLint value = -1;
-    glGetProgramResourceiv(program, interface, index, 1, &property, 1, nullptr, &value);
-    return value;
-}
-
-GLint blockBinding(GLuint program, const char* block) {
-    return resourceProperty(program, GL_SHADER_STORAGE_BLOCK, block, GL_BUFFER_BINDING);
-}
-
-GLint variableOffset(GLuint program, const char* variable) {
-    return resourceProperty(program, GL_BUFFER_VARIABLE, variable, GL_OFFSET);
-}
 
 void expectPixelGroup(GLuint program, const std::string& name) {
     GLint size[3] = {0, 0, 0};
@@ -79,31 +57,43 @@ void expectPassCounters(GLuint program, const std::string& name) {
     EXPECT_EQ(variableOffset(program, "counters[0].geometry"), GLint(offsetof(k::PassCounters, geometry))) << name;
 }
 
-// project.comp's parameters: the std140 block ProjectUniforms at kProjectBlock holds
-// kernel::ProjectBlock at the C++ offsets, in no more bytes than gl::UniformBlock allocates for it.
+// The parameter blocks (std140) against their mirrors in shaders/common.
 void expectProjectBlock(GLuint program, const std::string& name) {
-    EXPECT_EQ(resourceProperty(program, GL_UNIFORM_BLOCK, "ProjectUniforms", GL_BUFFER_BINDING), k::kProjectBlock) << name;
-    const GLint size = resourceProperty(program, GL_UNIFORM_BLOCK, "ProjectUniforms", GL_BUFFER_DATA_SIZE);
-    EXPECT_GE(size, GLint(sizeof(k::ProjectBlock))) << name;
-    EXPECT_LE(size, GLint(gl::UniformBlock::kBytes<k::ProjectBlock>)) << name;
-    const auto offset = [&](const char* member) {
-        return resourceProperty(program, GL_UNIFORM, (std::string("pass.") + member).c_str(), GL_OFFSET);
-    };
-    EXPECT_EQ(offset("gridOrigin"), GLint(offsetof(k::ProjectBlock, gridOrigin))) << name;
-    EXPECT_EQ(offset("cellSize"), GLint(offsetof(k::ProjectBlock, cellSize))) << name;
-    EXPECT_EQ(offset("gridDims"), GLint(offsetof(k::ProjectBlock, gridDims))) << name;
-    EXPECT_EQ(offset("candidatesPerCell"), GLint(offsetof(k::ProjectBlock, candidatesPerCell))) << name;
-    EXPECT_EQ(offset("residentOrigin"), GLint(offsetof(k::ProjectBlock, residentOrigin))) << name;
-    EXPECT_EQ(offset("residentCellSize"), GLint(offsetof(k::ProjectBlock, residentCellSize))) << name;
-    EXPECT_EQ(offset("residentDims"), GLint(offsetof(k::ProjectBlock, residentDims))) << name;
-    EXPECT_EQ(offset("residentPerCell"), GLint(offsetof(k::ProjectBlock, residentPerCell))) << name;
-    EXPECT_EQ(offset("uncoveredAo"), GLint(offsetof(k::ProjectBlock, uncoveredAo))) << name;
-    const GLint params = GLint(offsetof(k::ProjectBlock, params));
-    EXPECT_EQ(offset("params.depthTolerance"), params + GLint(offsetof(k::ProjectionParams, depthTolerance))) << name;
-    EXPECT_EQ(offset("params.depthSlope"), params + GLint(offsetof(k::ProjectionParams, depthSlope))) << name;
-    EXPECT_EQ(offset("params.minFacing"), params + GLint(offsetof(k::ProjectionParams, minFacing))) << name;
-    EXPECT_EQ(offset("params.res"), params + GLint(offsetof(k::ProjectionParams, res))) << name;
-    EXPECT_EQ(offset("params.depthRes"), params + GLint(offsetof(k::ProjectionParams, depthRes))) << name;
+    using B = k::ProjectBlock;
+    expectUniformBlock<B>(program, "ProjectUniforms", "pass", k::kProjectBlock,
+                          {CUBEAO_MEMBER(B, gridOrigin), CUBEAO_MEMBER(B, cellSize), CUBEAO_MEMBER(B, gridDims),
+                           CUBEAO_MEMBER(B, candidatesPerCell), CUBEAO_MEMBER(B, residentOrigin),
+                           CUBEAO_MEMBER(B, residentCellSize), CUBEAO_MEMBER(B, residentDims),
+                           CUBEAO_MEMBER(B, residentPerCell), CUBEAO_MEMBER(B, uncoveredAo),
+                           CUBEAO_MEMBER(B, cellCount)},
+                          name);
+    const std::size_t params = offsetof(B, params);
+    using P = k::ProjectionParams;
+    expectUniformBlock<B>(program, "ProjectUniforms", "pass.params", k::kProjectBlock,
+                          {{"depthTolerance", params + offsetof(P, depthTolerance)},
+                           {"depthSlope", params + offsetof(P, depthSlope)},
+                           {"minFacing", params + offsetof(P, minFacing)},
+                           {"res", params + offsetof(P, res)},
+                           {"depthRes", params + offsetof(P, depthRes)}},
+                          name);
+}
+
+void expectCameraBlock(GLuint program, const std::string& name) {
+    using B = k::CameraBlock;
+    expectUniformBlock<B>(program, "CameraUniforms", "camera", k::kCameraBlock,
+                          {CUBEAO_MEMBER(B, worldFromView), CUBEAO_MEMBER(B, frameSize), CUBEAO_MEMBER(B, tanHalfFovY),
+                           CUBEAO_MEMBER(B, frameKey)},
+                          name);
+    EXPECT_EQ(resourceProperty(program, GL_UNIFORM, "camera.worldFromView", GL_MATRIX_STRIDE), 16) << name;
+}
+
+void expectSsaoBlock(GLuint program, const std::string& name) {
+    using B = k::SsaoBlock;
+    expectUniformBlock<B>(program, "SsaoUniforms", "ssao", k::kSsaoBlock,
+                          {CUBEAO_MEMBER(B, radius), CUBEAO_MEMBER(B, falloff), CUBEAO_MEMBER(B, directions),
+                           CUBEAO_MEMBER(B, steps), CUBEAO_MEMBER(B, maxRadiusPixels), CUBEAO_MEMBER(B, intensity),
+                           CUBEAO_MEMBER(B, contrast), CUBEAO_MEMBER(B, bias), CUBEAO_MEMBER(B, epsilon)},
+                          name);
 }
 
 TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
@@ -117,6 +107,7 @@ TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
     EXPECT_EQ(unitOf(p, "aoOut"), k::kAoImageUnit);
     expectPassCounters(p, "project");
     expectProjectBlock(p, "project");
+    expectCameraBlock(p, "project");
 
     EXPECT_EQ(blockBinding(p, "ProbeTable"), k::kProbeTableBuffer);
     EXPECT_EQ(variableOffset(p, "probes[0].position"), GLint(offsetof(k::ProbeEntry, position)));
@@ -139,6 +130,7 @@ TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
     EXPECT_EQ(blockBinding(count.id(), "Candidates"), k::kCandidateBuffer);
     EXPECT_EQ(blockBinding(count.id(), "CellResidentCounts"), k::kCellResidentCountBuffer);
     EXPECT_EQ(variableOffset(count.id(), "probes[0].tile"), GLint(offsetof(k::ProbeEntry, tile)));
+    expectProjectBlock(count.id(), "cell_residency");
 
     // The variant of ProbeProjectionPass::setDiagnostics writes its image at its own unit.
     const gl::Program diagnostics = gl::compileComputeProgram("runtime/project.comp", {{"PROJECT_DIAGNOSTICS", "1"}});
@@ -165,20 +157,18 @@ TEST_F(GlTest, CoverageCountShaderMatchesTheSharedLayout) {
     EXPECT_EQ(blockBinding(p, "BvhNodes"), k::kBvhNodeBuffer);
     EXPECT_EQ(blockBinding(p, "BvhTriangles"), k::kBvhTriangleBuffer);
 
-    // Its parameters: the std140 block CoverageUniforms holds kernel::CoverageBlock at the C++ offsets.
-    EXPECT_EQ(resourceProperty(p, GL_UNIFORM_BLOCK, "CoverageUniforms", GL_BUFFER_BINDING), k::kCoverageBlock);
-    const GLint size = resourceProperty(p, GL_UNIFORM_BLOCK, "CoverageUniforms", GL_BUFFER_DATA_SIZE);
-    EXPECT_GE(size, GLint(sizeof(k::CoverageBlock)));
-    EXPECT_LE(size, GLint(gl::UniformBlock::kBytes<k::CoverageBlock>));
-    const auto offset = [&](const char* member) {
-        return resourceProperty(p, GL_UNIFORM, (std::string("frame.") + member).c_str(), GL_OFFSET);
-    };
-    EXPECT_EQ(offset("params.maxArea"), GLint(offsetof(k::CoverageParams, maxArea)));
-    EXPECT_EQ(offset("params.maxDistance"), GLint(offsetof(k::CoverageParams, maxDistance)));
-    EXPECT_EQ(offset("params.minFacing"), GLint(offsetof(k::CoverageParams, minFacing)));
-    EXPECT_EQ(offset("params.res"), GLint(offsetof(k::CoverageParams, res)));
-    EXPECT_EQ(offset("probeCount"), GLint(offsetof(k::CoverageBlock, probeCount)));
-    EXPECT_EQ(offset("surfaceEpsilon"), GLint(offsetof(k::CoverageBlock, surfaceEpsilon)));
+    // Its parameters: kernel::CoverageBlock, and the frame's camera.
+    using B = k::CoverageBlock;
+    using P = k::CoverageParams;
+    expectUniformBlock<B>(p, "CoverageUniforms", "frame", k::kCoverageBlock,
+                          {{"params.maxArea", offsetof(P, maxArea)},
+                           {"params.maxDistance", offsetof(P, maxDistance)},
+                           {"params.minFacing", offsetof(P, minFacing)},
+                           {"params.res", offsetof(P, res)},
+                           CUBEAO_MEMBER(B, probeCount),
+                           CUBEAO_MEMBER(B, surfaceEpsilon)},
+                          "coverage_count");
+    expectCameraBlock(p, "coverage_count");
 }
 
 TEST_F(GlTest, ScreenSpaceShadersMatchTheSharedLayout) {
@@ -191,6 +181,8 @@ TEST_F(GlTest, ScreenSpaceShadersMatchTheSharedLayout) {
         EXPECT_EQ(unitOf(p, "gNormal"), k::kGBufferNormalUnit) << name;
         EXPECT_EQ(unitOf(p, "aoOut"), k::kAoImageUnit) << name;
         expectPassCounters(p, name);
+        expectCameraBlock(p, name);
+        expectSsaoBlock(p, name);
     }
 }
 
@@ -218,6 +210,7 @@ TEST_F(GlTest, GtaoFallbackShadersMatchTheSharedLayout) {
         const gl::Program program = compile(pass);
         const GLuint p = program.id();
         expectPixelGroup(p, name);
+        expectCameraBlock(p, name);
         if (blockBinding(p, "Tiles") >= 0) {  // mark, select
             EXPECT_EQ(blockBinding(p, "Tiles"), k::kFallbackTileBuffer) << name;
             EXPECT_EQ(variableOffset(p, "tiles[0].mask1"), GLint(offsetof(k::FallbackTile, mask1))) << name;
@@ -243,6 +236,7 @@ TEST_F(GlTest, GtaoFallbackShadersMatchTheSharedLayout) {
     EXPECT_EQ(unitOf(p, "aoImage"), k::kAoImageUnit);
     EXPECT_EQ(unitOf(p, "gDepth"), k::kGBufferDepthUnit);
     EXPECT_EQ(unitOf(p, "gNormal"), k::kGBufferNormalUnit);
+    expectSsaoBlock(p, "gtao_fill (fill)");  // the gtao baseline's settings
     EXPECT_EQ(blockBinding(p, "Counters"), k::kFallbackCountersBuffer);
     EXPECT_EQ(resourceProperty(p, GL_SHADER_STORAGE_BLOCK, "Counters", GL_BUFFER_DATA_SIZE),
               GLint(sizeof(k::FallbackCounters)));
@@ -263,8 +257,49 @@ TEST_F(GlTest, BlurAndCompositeShadersMatchTheSharedLayout) {
     }
     const gl::Program blur = gl::compileComputeProgram("runtime/blur.comp");
     EXPECT_EQ(unitOf(blur.id(), "aoOut"), k::kAoImageUnit);
+    expectCameraBlock(blur.id(), "blur");
+    using Blur = k::BlurBlock;
+    expectUniformBlock<Blur>(blur.id(), "BlurUniforms", "blur", k::kBlurBlock,
+                             {CUBEAO_MEMBER(Blur, axis), CUBEAO_MEMBER(Blur, radius), CUBEAO_MEMBER(Blur, normalPower),
+                              CUBEAO_MEMBER(Blur, depthTolerance)},
+                             "blur");
     const gl::Program composite = gl::compileComputeProgram("runtime/composite.comp");
     EXPECT_EQ(unitOf(composite.id(), "shaded"), k::kShadedImageUnit);
+    using Composite = k::CompositeBlock;
+    expectUniformBlock<Composite>(composite.id(), "CompositeUniforms", "composite", k::kCompositeBlock,
+                                  {CUBEAO_MEMBER(Composite, light), CUBEAO_MEMBER(Composite, alpha),
+                                   CUBEAO_MEMBER(Composite, albedo), CUBEAO_MEMBER(Composite, ambient),
+                                   CUBEAO_MEMBER(Composite, sky), CUBEAO_MEMBER(Composite, diffuse),
+                                   CUBEAO_MEMBER(Composite, frameSize)},
+                                  "composite");
+}
+
+// The camera G-buffer (camera_gbuffer.cpp): the triangle normals and both stages' transforms.
+TEST_F(GlTest, CameraGBufferShadersMatchTheSharedLayout) {
+    const gl::Program program = gl::compileRenderProgram("runtime/gbuffer.vert", "runtime/gbuffer.frag");
+    EXPECT_EQ(blockBinding(program.id(), "TriangleNormals"), k::kTriangleNormalsBuffer);
+    using B = k::GBufferBlock;
+    expectUniformBlock<B>(program.id(), "GBufferUniforms", "transforms", k::kGBufferBlock,
+                          {CUBEAO_MEMBER(B, viewFromWorld), CUBEAO_MEMBER(B, clipFromView)}, "camera G-buffer");
+}
+
+void expectBakeBlock(GLuint program, const std::string& name) {
+    using B = k::BakeBlock;
+    expectUniformBlock<B>(program, "BakeUniforms", "bake", k::kBakeBlock,
+                          {{"clipFromWorld[0]", offsetof(B, clipFromWorld)}, CUBEAO_MEMBER(B, probe),
+                           CUBEAO_MEMBER(B, res), CUBEAO_MEMBER(B, radius), CUBEAO_MEMBER(B, falloff),
+                           CUBEAO_MEMBER(B, probeKey), CUBEAO_MEMBER(B, directions), CUBEAO_MEMBER(B, steps),
+                           CUBEAO_MEMBER(B, spp), CUBEAO_MEMBER(B, surfaceEpsilon), CUBEAO_MEMBER(B, denoiseRadius),
+                           CUBEAO_MEMBER(B, threshold)},
+                          name);
+    EXPECT_EQ(resourceProperty(program, GL_UNIFORM, "bake.clipFromWorld[0]", GL_ARRAY_STRIDE), GLint(sizeof(glm::mat4)))
+        << name;
+}
+
+void expectEncodeBlock(GLuint program, const std::string& name) {
+    using B = k::EncodeBlock;
+    expectUniformBlock<B>(program, "EncodeUniforms", "encode", k::kEncodeBlock,
+                          {CUBEAO_MEMBER(B, res), CUBEAO_MEMBER(B, depthRes), CUBEAO_MEMBER(B, format)}, name);
 }
 
 // The bake's passes against shaders/common/bake_layout.h as the driver compiled them: work-group
@@ -304,6 +339,11 @@ TEST_F(GlTest, BakeShadersMatchTheSharedLayout) {
         if (v.gbuffer) {
             EXPECT_EQ(unitOf(p, "gbuffer"), k::kBakeGBufferUnit) << name;
         }
+        const bool encoder = name.starts_with("bake/bc5_") || name.starts_with("bake/depth_encode");
+        if (encoder)
+            expectEncodeBlock(p, name);
+        else
+            expectBakeBlock(p, name);
         if (v.texelList) {
             EXPECT_EQ(blockBinding(p, "TexelList"), k::kBakeTexelListBuffer) << name;
             EXPECT_EQ(variableOffset(p, "header.groupsX"), GLint(offsetof(k::TexelListHeader, groupsX))) << name;
@@ -344,11 +384,13 @@ TEST_F(GlTest, BakeShadersMatchTheSharedLayout) {
     // The cube G-buffer, both ways gpu_bake.cpp builds it: the triangle normals at their binding.
     const gl::Program sixPass = gl::compileRenderProgram("bake/gbuffer.vert", "bake/gbuffer.frag");
     EXPECT_EQ(blockBinding(sixPass.id(), "TriangleNormals"), k::kBakeTriangleNormalsBuffer);
+    expectBakeBlock(sixPass.id(), "cube G-buffer, six passes");
     const gl::Program layered = gl::buildProgram({gl::loadShaderStage(GL_VERTEX_SHADER, "bake/gbuffer.vert"),
                                                   gl::loadShaderStage(GL_GEOMETRY_SHADER, "bake/gbuffer.geom"),
                                                   gl::loadShaderStage(GL_FRAGMENT_SHADER, "bake/gbuffer.frag")},
                                                  {{"LAYERED", "1"}});
     EXPECT_EQ(blockBinding(layered.id(), "TriangleNormals"), k::kBakeTriangleNormalsBuffer);
+    expectBakeBlock(layered.id(), "cube G-buffer, layered");
 }
 
 // Binding numbers are distinct per kind, so one number never means two things across the passes.
@@ -356,18 +398,22 @@ TEST(RuntimeLayout, BindingsAreDistinctPerKind) {
     const std::vector<int> units = {k::kGBufferDepthUnit, k::kGBufferNormalUnit, k::kAoInputUnit, k::kProbeAoUnit,
                                     k::kProbeDistanceUnit};
     // The placement count's buffers and the BVH's share the binding space with the run-time passes.
+    // Uniform blocks are numbered apart across the run-time, placement, the bake and the viewer, whose
+    // passes can share one context (live placement bakes in the viewer).
+    const std::vector<int> blocks = {k::kProjectBlock, k::kCoverageBlock, k::kCameraBlock, k::kSsaoBlock,
+                                     k::kBlurBlock,    k::kCompositeBlock, k::kGBufferBlock, k::kViewBlock,
+                                     k::kBakeBlock,    k::kEncodeBlock};
     const std::vector<int> buffers = {k::kTriangleNormalsBuffer, k::kPassCountersBuffer, k::kProbeTableBuffer,
                                       k::kCandidateBuffer,       k::kResidentCandidateBuffer, k::kCoverageProbeBuffer, k::kCoverageCounterBuffer,
                                       k::kFallbackTileBuffer,    k::kFallbackCountersBuffer, k::kFallbackTileListBuffer,
                                       k::kFallbackWorkBuffer,    k::kProbeFeedbackBuffer,   k::kCellResidentCountBuffer,
                                       int(k::kBvhNodeBuffer),    int(k::kBvhTriangleBuffer)};
-    for (const auto* list : {&units, &buffers})
+    for (const auto* list : {&units, &blocks, &buffers})
         for (std::size_t i = 0; i < list->size(); ++i)
             for (std::size_t j = i + 1; j < list->size(); ++j) EXPECT_NE((*list)[i], (*list)[j]) << i << " vs " << j;
     EXPECT_NE(k::kAoImageUnit, k::kShadedImageUnit);
     EXPECT_NE(k::kAoImageUnit, k::kDiagnosticsImageUnit);
     EXPECT_NE(k::kShadedImageUnit, k::kDiagnosticsImageUnit);
-    EXPECT_NE(k::kProjectBlock, k::kCoverageBlock);  // uniform blocks
     EXPECT_EQ(k::pixelGroups(1), 1u);
     EXPECT_EQ(k::pixelGroups(k::kPixelGroupSize), 1u);
     EXPECT_EQ(k::pixelGroups(k::kPixelGroupSize + 1), 2u);

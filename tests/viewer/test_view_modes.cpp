@@ -21,6 +21,7 @@
 #include <spdlog/sinks/base_sink.h>
 #include <spdlog/spdlog.h>
 
+#include "common/viewer_layout.h"
 #include "cubeao-view/view_modes.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/core/camera.h"
@@ -33,6 +34,7 @@
 #include "cubeao/ssao/gtao_fallback.h"
 #include "cubeao/ssao/ssao_pass.h"
 #include "bake_test_settings.h"
+#include "gl_interface.h"
 #include "runtime_test_util.h"
 #include "test_util.h"
 
@@ -336,6 +338,17 @@ TEST_F(ViewModesGl, EveryModeDrawsWithoutGlErrorsAndShowsAnImage) {
         EXPECT_EQ(distinctColours(target, stripes), 2u) << name << ": the two greys of the stripes";
     }
     EXPECT_EQ(watch.debugErrors(), 0) << "GL debug output reported errors (see the log above)";
+}
+
+// view.frag reads its parameters as viewer_layout.h's ViewBlock, at the C++ offsets.
+TEST_F(ViewModesGl, TheShaderReadsTheSharedViewBlock) {
+    const viewer::ViewModes modes;
+    using B = kernel::ViewBlock;
+    test::expectUniformBlock<B>(modes.program(), "ViewUniforms", "viewer", kernel::kViewBlock,
+                                {CUBEAO_MEMBER(B, viewportRect), CUBEAO_MEMBER(B, mode),
+                                 CUBEAO_MEMBER(B, footprintScale), CUBEAO_MEMBER(B, hasAo),
+                                 CUBEAO_MEMBER(B, encodeSrgb)},
+                                "view.frag");
 }
 
 // Texture row 0 is the image top: it must land in the top row of the framebuffer (GL's last row).

@@ -3,6 +3,7 @@
 #include <array>
 #include <string>
 
+#include "common/viewer_layout.h"
 #include "cubeao/core/error.h"
 #include "cubeao/gl/shader.h"
 #include "cubeao/gl/state.h"
@@ -52,23 +53,16 @@ ViewModes::ViewModes() {
         define("MODE_UNAVAILABLE", kUnavailable),
     };
     program_ = gl::compileRenderProgram("viewer/view.vert", "viewer/view.frag", defines);
-    const GLuint p = program_.id();
-    modeLocation_ = gl::uniformLocation(p, "mode");
-    viewportLocation_ = gl::uniformLocation(p, "viewportRect");
-    footprintScaleLocation_ = gl::uniformLocation(p, "footprintScale");
-    hasAoLocation_ = gl::uniformLocation(p, "hasAo");
-    encodeLocation_ = gl::uniformLocation(p, "encodeSrgb");
     vertexArray_ = gl::VertexArray::create();
 }
 
 bool ViewModes::draw(ViewMode mode, const ViewInputs& in, int x, int y, int width, int height) {
     const bool available = viewModeAvailable(mode, in);
-    const GLuint p = program_.id();
-    glProgramUniform1i(p, modeLocation_, available ? int(mode) : kUnavailable);
-    glProgramUniform4i(p, viewportLocation_, x, y, width, height);
-    glProgramUniform1f(p, footprintScaleLocation_, in.footprintScale > 0.0f ? in.footprintScale : 1.0f);
-    glProgramUniform1i(p, hasAoLocation_, in.ao != 0 ? 1 : 0);
-    glProgramUniform1i(p, encodeLocation_, srgbFramebuffer_ ? 0 : 1);
+    const kernel::ViewBlock block{{x, y, width, height},
+                                  available ? int(mode) : kUnavailable,
+                                  in.footprintScale > 0.0f ? in.footprintScale : 1.0f,
+                                  in.ao != 0 ? 1 : 0,
+                                  srgbFramebuffer_ ? 0 : 1};
     // Every unit gets its texture or none: the shader only reads those the mode needs.
     glBindTextureUnit(kShadedUnit, in.shaded);
     glBindTextureUnit(kAoUnit, in.ao);
@@ -80,7 +74,8 @@ bool ViewModes::draw(ViewMode mode, const ViewInputs& in, int x, int y, int widt
         const gl::SavedState saved;  // the panel and the next frame draw on the state they set
         glDisable(GL_DEPTH_TEST), glDisable(GL_BLEND), glDisable(GL_CULL_FACE);
         glViewport(x, y, width, height);
-        glUseProgram(p);
+        glUseProgram(program_.id());
+        block_.upload(block, kernel::kViewBlock);  // in order: a draw before this one keeps its own
         glBindVertexArray(vertexArray_.id());
         glDrawArrays(GL_TRIANGLES, 0, 3);
     }

@@ -14,6 +14,7 @@
 
 #include "cubeao-view/view_mode.h"
 #include "cubeao/gl/handles.h"
+#include "cubeao/gl/uniform_block.h"
 
 namespace cubeao::viewer {
 
@@ -50,12 +51,12 @@ public:
     // True when the draw framebuffer encodes sRGB itself (an sRGB framebuffer with GL_FRAMEBUFFER_SRGB
     // enabled): the shader then writes linear colour. Default false: a plain RGBA8 framebuffer.
     void setSrgbFramebuffer(bool srgb) { srgbFramebuffer_ = srgb; }
+    GLuint program() const { return program_.id(); }  // for the layout test
 
 private:
     gl::Program program_;
     gl::VertexArray vertexArray_;  // empty: the vertex shader makes the triangle from gl_VertexID
-    GLint modeLocation_ = -1, footprintScaleLocation_ = -1, hasAoLocation_ = -1, encodeLocation_ = -1,
-          viewportLocation_ = -1;
+    gl::UniformBlock block_;  // kernel::ViewBlock, per draw
     bool srgbFramebuffer_ = false;
 };
 

@@ -6,7 +6,6 @@
 #include <string>
 
 #include <glm/geometric.hpp>
-#include <glm/gtc/type_ptr.hpp>
 #include <glm/vec4.hpp>
 
 #include "common/bake_layout.h"
@@ -22,6 +21,7 @@
 #include "cubeao/gl/state.h"
 #include "cubeao/gl/sync.h"
 #include "cubeao/gl/timer.h"
+#include "cubeao/gl/uniform_block.h"
 #include "cubeao/reference/embree_scene.h"
 
 namespace cubeao {
@@ -44,16 +44,19 @@ struct GpuBaker::Impl {
     gl::Texture gbuffer, depth;
     gl::Framebuffer framebuffer;
     gl::Program layered, sixPass, horizon, traced, tracedList, select, denoise, denoiseList;
+    gl::UniformBlock block;  // kernel::BakeBlock: the G-buffer pass's, then the AO passes'
     std::unique_ptr<GpuBvh> bvh;
     std::unique_ptr<GpuBc5Encoder> bc5;
     std::unique_ptr<GpuDepthEncoder> depthCube;
 
     void renderGBuffer(const glm::vec3& probe, int res);
-    void horizonPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
-    void tracedPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
-    void hybridPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s);
+    // What the AO passes of one probe read: uploaded by aoPass (and horizonOn) before the passes below.
+    kernel::BakeBlock probeBlock(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) const;
+    void horizonPass(const BakeSettings& s);
+    void tracedPass(const BakeSettings& s);
+    void hybridPass(const BakeSettings& s);
     // The edge-aware filter of the traced texels (all, or the hybrid's list), after their AO pass.
-    void denoisePass(const glm::vec3& probe, const BakeSettings& s, bool list);
+    void denoisePass(const BakeSettings& s, bool list);
     // Texels the last hybrid pass traced: read once the probe's work is done, not between passes.
     std::uint32_t hybridTraced() const {
         kernel::TexelListHeader header{};
@@ -156,30 +159,27 @@ void GpuBaker::Impl::renderGBuffer(const glm::vec3& probe, int res) {
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
     mesh->bind(kernel::kBakeTriangleNormalsBuffer);
     const auto draw = [&] { mesh->draw(); };
+    kernel::BakeBlock b{};
+    b.probe = probe;
 
     if (mode == GBufferMode::Layered) {
         glNamedFramebufferTexture(framebuffer.id(), GL_COLOR_ATTACHMENT0, gbuffer.id(), 0);
         glNamedFramebufferTexture(framebuffer.id(), GL_DEPTH_ATTACHMENT, depth.id(), 0);
         glClearNamedFramebufferfv(framebuffer.id(), GL_COLOR, 0, clearNormal);  // clears all layers
         glClearNamedFramebufferfv(framebuffer.id(), GL_DEPTH, 0, &clearDepth);
-        glm::mat4 clip[cube::kFaces];
-        for (int f = 0; f < cube::kFaces; ++f) clip[f] = cube::clipFromWorld(f, probe, zNear);
+        for (int f = 0; f < cube::kFaces; ++f) b.clipFromWorld[f] = cube::clipFromWorld(f, probe, zNear);
         glUseProgram(layered.id());
-        glProgramUniformMatrix4fv(layered.id(), gl::uniformLocation(layered.id(), "clipFromWorld"), cube::kFaces,
-                                  GL_FALSE, glm::value_ptr(clip[0]));
-        glProgramUniform3fv(layered.id(), gl::uniformLocation(layered.id(), "probe"), 1, glm::value_ptr(probe));
+        block.upload(b, kernel::kBakeBlock);
         draw();
     } else {
         glUseProgram(sixPass.id());
-        glProgramUniform3fv(sixPass.id(), gl::uniformLocation(sixPass.id(), "probe"), 1, glm::value_ptr(probe));
         for (int f = 0; f < cube::kFaces; ++f) {
             glNamedFramebufferTextureLayer(framebuffer.id(), GL_COLOR_ATTACHMENT0, gbuffer.id(), 0, f);
             glNamedFramebufferTextureLayer(framebuffer.id(), GL_DEPTH_ATTACHMENT, depth.id(), 0, f);
             glClearNamedFramebufferfv(framebuffer.id(), GL_COLOR, 0, clearNormal);
             glClearNamedFramebufferfv(framebuffer.id(), GL_DEPTH, 0, &clearDepth);
-            const glm::mat4 clip = cube::clipFromWorld(f, probe, zNear);
-            glProgramUniformMatrix4fv(sixPass.id(), gl::uniformLocation(sixPass.id(), "clipFromWorld"), 1, GL_FALSE,
-                                      glm::value_ptr(clip));
+            b.clipFromWorld[0] = cube::clipFromWorld(f, probe, zNear);
+            block.upload(b, kernel::kBakeBlock);  // in order: the last face's draw still reads its own
             draw();
         }
     }
@@ -189,42 +189,27 @@ void GpuBaker::Impl::renderGBuffer(const glm::vec3& probe, int res) {
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
 }
 
-namespace {
-
-void setUniform(GLuint program, const char* name, int v) { glProgramUniform1i(program, gl::uniformLocation(program, name), v); }
-void setUniform(GLuint program, const char* name, std::uint32_t v) {
-    glProgramUniform1ui(program, gl::uniformLocation(program, name), v);
-}
-void setUniform(GLuint program, const char* name, float v) { glProgramUniform1f(program, gl::uniformLocation(program, name), v); }
-void setUniform(GLuint program, const char* name, const glm::vec3& v) {
-    glProgramUniform3fv(program, gl::uniformLocation(program, name), 1, glm::value_ptr(v));
-}
-
-// Uniforms every AO pass has, then the horizon passes' march and the traced passes' rays.
-void setAoUniforms(GLuint program, const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
-    setUniform(program, "probe", probe);
-    setUniform(program, "res", s.res);
-    setUniform(program, "radius", s.ao.radius);
-    setUniform(program, "falloff", falloffUniform(s.ao.falloff));
-    setUniform(program, "probeKey", probeKey);
-}
-void setHorizonUniforms(GLuint program, const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
-    setAoUniforms(program, probe, probeKey, s);
-    setUniform(program, "directions", s.directions);
-    setUniform(program, "steps", s.steps);
-}
-void setTracedUniforms(GLuint program, const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
-    setAoUniforms(program, probe, probeKey, s);
-    setUniform(program, "spp", s.ao.spp);
+kernel::BakeBlock GpuBaker::Impl::probeBlock(const glm::vec3& probe, std::uint32_t probeKey,
+                                             const BakeSettings& s) const {
+    kernel::BakeBlock b{};
+    b.probe = probe;
+    b.res = s.res;
+    b.radius = s.ao.radius;
+    b.falloff = falloffUniform(s.ao.falloff);
+    b.probeKey = probeKey;
+    b.directions = s.directions;
+    b.steps = s.steps;
+    b.spp = s.ao.spp;
+    b.surfaceEpsilon = surfaceEpsilon;
+    b.denoiseRadius = s.denoise;
+    b.threshold = s.hybridThreshold;
+    return b;
 }
 
-}  // namespace
-
-void GpuBaker::Impl::horizonPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
+void GpuBaker::Impl::horizonPass(const BakeSettings& s) {
     const kernel::FetchCount zero{0u, 0u};
     glNamedBufferSubData(fetchCount.id(), 0, sizeof zero, &zero);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeFetchCountBuffer, fetchCount.id());
-    setHorizonUniforms(horizon.id(), probe, probeKey, s);
     glUseProgram(horizon.id());
     glBindTextureUnit(kernel::kBakeGBufferUnit, gbuffer.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeAoBuffer, aoBuffer.id());
@@ -233,9 +218,7 @@ void GpuBaker::Impl::horizonPass(const glm::vec3& probe, std::uint32_t probeKey,
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
-void GpuBaker::Impl::tracedPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
-    setTracedUniforms(traced.id(), probe, probeKey, s);
-    setUniform(traced.id(), "surfaceEpsilon", surfaceEpsilon);
+void GpuBaker::Impl::tracedPass(const BakeSettings& s) {
     glUseProgram(traced.id());
     glBindTextureUnit(kernel::kBakeGBufferUnit, gbuffer.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeAoBuffer, aoBuffer.id());
@@ -243,15 +226,13 @@ void GpuBaker::Impl::tracedPass(const glm::vec3& probe, std::uint32_t probeKey, 
     glDispatchCompute(bakeGroups(std::size_t(cube::kFaces) * std::size_t(s.res) * std::size_t(s.res), kernel::kBakeListGroupSize),
                       1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    if (s.denoise > 0) denoisePass(probe, s, false);
+    if (s.denoise > 0) denoisePass(s, false);
 }
 
-void GpuBaker::Impl::hybridPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
-    horizonPass(probe, probeKey, s);
+void GpuBaker::Impl::hybridPass(const BakeSettings& s) {
+    horizonPass(s);
     const kernel::TexelListHeader header{0u, 1u, 1u, 0u};  // indirect dispatch (x, y, z) + count
     glNamedBufferSubData(texelList.id(), 0, sizeof header, &header);
-    setUniform(select.id(), "res", s.res);
-    setUniform(select.id(), "threshold", s.hybridThreshold);
     glUseProgram(select.id());
     glBindTextureUnit(kernel::kBakeGBufferUnit, gbuffer.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeAoBuffer, aoBuffer.id());
@@ -260,26 +241,20 @@ void GpuBaker::Impl::hybridPass(const glm::vec3& probe, std::uint32_t probeKey, 
                       1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
-    setTracedUniforms(tracedList.id(), probe, probeKey, s);
-    setUniform(tracedList.id(), "surfaceEpsilon", surfaceEpsilon);
     glUseProgram(tracedList.id());
     bvh->bind();
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, texelList.id());
     glDispatchComputeIndirect(0);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    if (s.denoise > 0) denoisePass(probe, s, true);
+    if (s.denoise > 0) denoisePass(s, true);
 }
 
-void GpuBaker::Impl::denoisePass(const glm::vec3& probe, const BakeSettings& s, bool list) {
+void GpuBaker::Impl::denoisePass(const BakeSettings& s, bool list) {
     const std::size_t texels = std::size_t(cube::kFaces) * std::size_t(s.res) * std::size_t(s.res);
     glCopyNamedBufferSubData(aoBuffer.id(), aoSource.id(), 0, 0, GLsizeiptr(texels * sizeof(glm::vec2)));
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     const gl::Program& program = list ? denoiseList : denoise;
-    setUniform(program.id(), "probe", probe);
-    setUniform(program.id(), "res", s.res);
-    setUniform(program.id(), "radius", s.denoise);
-    setUniform(program.id(), "aoRadius", s.ao.radius);
     glUseProgram(program.id());
     glBindTextureUnit(kernel::kBakeGBufferUnit, gbuffer.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kBakeAoBuffer, aoBuffer.id());
@@ -345,11 +320,12 @@ BakedProbe GpuBaker::bake(const glm::vec3& probe, std::uint32_t probeIndex) {
 }
 
 void GpuBaker::Impl::aoPass(const glm::vec3& probe, std::uint32_t probeKey, const BakeSettings& s) {
+    block.upload(probeBlock(probe, probeKey, s), kernel::kBakeBlock);  // every dispatch below reads it
     switch (s.estimator) {
         case Estimator::HorizonSplit:
-        case Estimator::Gtao: horizonPass(probe, probeKey, s); break;
-        case Estimator::Traced: tracedPass(probe, probeKey, s); break;
-        case Estimator::Hybrid: hybridPass(probe, probeKey, s); break;
+        case Estimator::Gtao: horizonPass(s); break;
+        case Estimator::Traced: tracedPass(s); break;
+        case Estimator::Hybrid: hybridPass(s); break;
     }
 }
 
@@ -443,7 +419,8 @@ std::vector<glm::vec2> GpuBaker::horizonOn(const CubeGBuffer& g, std::uint32_t p
     if (!m.horizon) throw Error("GpuBaker::horizonOn needs the hsplit or gtao estimator");
     if (g.res != settings_.res) throw Error("GpuBaker::horizonOn: G-buffer resolution differs from the settings'");
     glTextureSubImage3D(m.gbuffer.id(), 0, 0, 0, 0, g.res, g.res, cube::kFaces, GL_RGBA, GL_FLOAT, g.texels.data());
-    m.horizonPass(g.probe, probeIndex ^ settings_.ao.seed, settings_);
+    m.block.upload(m.probeBlock(g.probe, probeIndex ^ settings_.ao.seed, settings_), kernel::kBakeBlock);
+    m.horizonPass(settings_);
     std::vector<glm::vec2> out(g.texelCount());
     glGetNamedBufferSubData(m.aoBuffer.id(), 0, GLsizeiptr(out.size() * sizeof(glm::vec2)), out.data());
     if (fetches) *fetches = m.fetches();

@@ -26,13 +26,13 @@ GpuBc5Encoder::GpuBc5Encoder(int res)
     glNamedBufferStorage(blocks_.id(), GLsizeiptr(size_), nullptr, 0);
     const GLuint tiles = groups(res / bc::kBlockSize);
     glNamedBufferStorage(partial_.id(), GLsizeiptr(std::size_t(6) * tiles * tiles * sizeof(float) * 2), nullptr, 0);
-    for (const GLuint program : {program_.id(), errorProgram_.id()})
-        glProgramUniform1i(program, gl::uniformLocation(program, "res"), res);
+    block_ = gl::UniformBlock::create(kernel::EncodeBlock{res, 0, 0});  // both programs read res alone
 }
 
 void GpuBc5Encoder::encode(GLuint aoConfidenceBuffer) {
     const int blocksPerSide = res_ / bc::kBlockSize;
     glUseProgram(program_.id());
+    block_.bind(kernel::kEncodeBlock);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeAoBuffer, aoConfidenceBuffer);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeBlocksBuffer, blocks_.id());
     glDispatchCompute(groups(2 * blocksPerSide), groups(blocksPerSide), 6);  // x: 2·bx + channel
@@ -47,6 +47,7 @@ GpuBc5Encoder::AoError GpuBc5Encoder::aoError(GLuint aoConfidenceBuffer, GLuint 
 void GpuBc5Encoder::dispatchAoError(GLuint aoConfidenceBuffer, GLuint gbufferTexture) const {
     const GLuint tiles = groups(res_ / bc::kBlockSize);
     glUseProgram(errorProgram_.id());
+    block_.bind(kernel::kEncodeBlock);
     glBindTextureUnit(kBakeGBufferUnit, gbufferTexture);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeAoBuffer, aoConfidenceBuffer);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeBlocksBuffer, blocks_.id());

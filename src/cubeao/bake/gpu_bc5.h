@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cubeao/gl/handles.h"
+#include "cubeao/gl/uniform_block.h"
 
 namespace cubeao {
 
@@ -47,6 +48,7 @@ private:
     int res_ = 0;
     std::size_t size_ = 0;  // bytes of blocks_
     gl::Program program_, errorProgram_;
+    gl::UniformBlock block_;  // kernel::EncodeBlock
     gl::Buffer blocks_, partial_;  // partial_: (Σ error², texels) per 8×8 tile of blocks
 };
 

@@ -38,10 +38,7 @@ GpuDepthEncoder::GpuDepthEncoder(int res, int depthRes, DepthFormat format)
     glNamedBufferStorage(coarse_.id(), GLsizeiptr(texels * sizeof(float)), nullptr, 0);
     glNamedBufferStorage(maxBits_.id(), sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
     glNamedBufferStorage(packed_.id(), GLsizeiptr(bytes_), nullptr, 0);  // bytes_ is a multiple of 4
-    for (const GLuint program : {downsample_.id(), pack_.id()})
-        glProgramUniform1i(program, gl::uniformLocation(program, "depthRes"), depthRes);
-    glProgramUniform1i(downsample_.id(), gl::uniformLocation(downsample_.id(), "res"), res);      // pass 0 reads the faces
-    glProgramUniform1i(pack_.id(), gl::uniformLocation(pack_.id(), "format"), int(format));  // pass 1 packs them
+    block_ = gl::UniformBlock::create(kernel::EncodeBlock{res, depthRes, int(format)});  // both passes'
 }
 
 void GpuDepthEncoder::encode(GLuint gbufferTexture) {
@@ -50,6 +47,7 @@ void GpuDepthEncoder::encode(GLuint gbufferTexture) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeCoarseBuffer, coarse_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeMaxDistanceBuffer, maxBits_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBakeDepthWordsBuffer, packed_.id());
+    block_.bind(kernel::kEncodeBlock);
     glUseProgram(downsample_.id());
     glBindTextureUnit(kBakeGBufferUnit, gbufferTexture);
     glDispatchCompute(bakeGroups(std::size_t(depthRes_), kBakeTileSize), bakeGroups(std::size_t(depthRes_), kBakeTileSize), 6);

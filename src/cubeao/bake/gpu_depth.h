@@ -9,6 +9,7 @@
 
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/gl/handles.h"
+#include "cubeao/gl/uniform_block.h"
 
 namespace cubeao {
 
@@ -36,6 +37,7 @@ private:
     DepthFormat format_;
     std::size_t bytes_ = 0;
     gl::Program downsample_, pack_;
+    gl::UniformBlock block_;  // kernel::EncodeBlock
     gl::Buffer coarse_, maxBits_, packed_;
 };
 

@@ -376,16 +376,6 @@ Program buildProgram(const std::vector<ShaderStage>& stages, const ShaderDefines
     return program;
 }
 
-GLint uniformLocation(GLuint program, const char* name) {
-    const GLint location = glGetUniformLocation(program, name);
-    if (location >= 0) return location;
-    std::string label(256, '\0');
-    GLsizei length = 0;
-    glGetObjectLabel(GL_PROGRAM, program, GLsizei(label.size()), &length, label.data());
-    label.resize(std::size_t(std::max(length, 0)));
-    throw Error((label.empty() ? "program " + std::to_string(program) : label) + ": no active uniform " + name);
-}
-
 Program compileComputeProgram(const fs::path& computeFile, const ShaderDefines& defines) {
     return buildProgram({loadShaderStage(GL_COMPUTE_SHADER, computeFile)}, defines);
 }

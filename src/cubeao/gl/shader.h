@@ -74,10 +74,4 @@ Program compileComputeProgram(const std::filesystem::path& computeFile, const Sh
 Program compileRenderProgram(const std::filesystem::path& vertexFile, const std::filesystem::path& fragmentFile,
                              const ShaderDefines& defines = {});
 
-// The location of a uniform the program uses: the one way cubeao looks uniforms up by name. Throws
-// cubeao::Error naming the program's files (its label) and the uniform when the linked program has
-// no such active uniform, so a name that drifted from the shader fails at the first frame instead of
-// setting nothing (location -1 is silently ignored by glProgramUniform*).
-GLint uniformLocation(GLuint program, const char* name);
-
 }  // namespace cubeao::gl

@@ -36,6 +36,15 @@ public:
         glNamedBufferSubData(buffer_.id(), 0, GLsizeiptr(sizeof(T)), &value);
     }
     void bind(GLuint binding) const { glBindBufferBase(GL_UNIFORM_BUFFER, binding, buffer_.id()); }
+    // A pass's per-frame block: created on first use, else set, then bound at `binding`.
+    template <class T>
+    void upload(const T& value, GLuint binding) {
+        if (buffer_.id() == 0)
+            *this = create(value);
+        else
+            set(value);
+        bind(binding);
+    }
     GLuint id() const { return buffer_.id(); }
     std::size_t bytes() const { return bytes_; }
 

@@ -80,10 +80,6 @@ Blur::Blur(const BlurSettings& settings) {
 void Blur::setSettings(const BlurSettings& settings) {
     validateBlurSettings(settings);
     settings_ = settings;
-    const GLuint p = program_.id();
-    glProgramUniform1i(p, gl::uniformLocation(p, "radius"), settings.radius);
-    glProgramUniform1f(p, gl::uniformLocation(p, "normalPower"), settings.normalPower);
-    glProgramUniform1f(p, gl::uniformLocation(p, "depthTolerance"), settings.depthTolerance);
 }
 
 void Blur::run(const CameraGBuffer& gbuffer, const CameraView& view, GLuint input, GLuint output) {
@@ -97,17 +93,17 @@ void Blur::run(const CameraGBuffer& gbuffer, const CameraView& view, GLuint inpu
         glTextureStorage2D(intermediate_.id(), 1, GL_R32F, w, h);
         width_ = w, height_ = h;
     }
-    const GLuint p = program_.id();
-    glProgramUniform2i(p, gl::uniformLocation(p, "frameSize"), w, h);
-    glProgramUniform1f(p, gl::uniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
-    glUseProgram(p);
+    glUseProgram(program_.id());
+    camera_.upload(view.block(w, h), kernel::kCameraBlock);
     glBindTextureUnit(kernel::kGBufferDepthUnit, gbuffer.depthTexture());
     glBindTextureUnit(kernel::kGBufferNormalUnit, gbuffer.normalTexture());
     const GLuint groupsX = kernel::pixelGroups(w), groupsY = kernel::pixelGroups(h);
-    const GLint axisLocation = gl::uniformLocation(p, "axis");
     const GLuint passes[2][2] = {{input, intermediate_.id()}, {intermediate_.id(), output}};
     for (int pass = 0; pass < 2; ++pass) {
-        glProgramUniform2i(p, axisLocation, pass == 0 ? 1 : 0, pass == 0 ? 0 : 1);
+        // GL orders the update after the first dispatch, which still reads the first axis.
+        const glm::ivec2 axis = pass == 0 ? glm::ivec2(1, 0) : glm::ivec2(0, 1);
+        block_.upload(kernel::BlurBlock{axis, settings_.radius, settings_.normalPower, settings_.depthTolerance},
+                      kernel::kBlurBlock);
         glBindTextureUnit(kernel::kAoInputUnit, passes[pass][0]);
         glBindImageTexture(kernel::kAoImageUnit, passes[pass][1], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
         glDispatchCompute(groupsX, groupsY, 1);

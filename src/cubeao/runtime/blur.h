@@ -20,6 +20,7 @@
 #pragma once
 
 #include "cubeao/gl/handles.h"
+#include "cubeao/gl/uniform_block.h"
 #include "cubeao/core/image.h"
 #include "cubeao/runtime/camera_gbuffer.h"
 #include "cubeao/runtime/camera_view.h"
@@ -74,6 +75,8 @@ public:
 private:
     BlurSettings settings_;
     gl::Program program_;
+    gl::UniformBlock block_;   // kernel::BlurBlock: the settings, and the axis of the pass being run
+    gl::UniformBlock camera_;  // kernel::CameraBlock, per frame
     gl::Texture intermediate_;
     int width_ = 0, height_ = 0;
 };

@@ -1,7 +1,6 @@
 #include "cubeao/runtime/camera_gbuffer.h"
 
 #include <glm/geometric.hpp>
-#include <glm/gtc/type_ptr.hpp>
 #include <glm/vec4.hpp>
 
 #include "common/runtime_layout.h"
@@ -57,14 +56,7 @@ void CameraGBuffer::render(const CameraView& view) {
         glViewport(0, 0, width_, height_);
         glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
         glUseProgram(program_.id());
-        const glm::mat3 rotation = view.viewFromWorldRotation();
-        const glm::mat4 clip = view.clipFromView();
-        glProgramUniformMatrix4fv(program_.id(), gl::uniformLocation(program_.id(), "viewFromWorld"), 1, GL_FALSE,
-                                  glm::value_ptr(view.viewFromWorld));
-        glProgramUniformMatrix4fv(program_.id(), gl::uniformLocation(program_.id(), "clipFromView"), 1, GL_FALSE,
-                                  glm::value_ptr(clip));
-        glProgramUniformMatrix3fv(program_.id(), gl::uniformLocation(program_.id(), "viewFromWorldRotation"), 1,
-                                  GL_FALSE, glm::value_ptr(rotation));
+        block_.upload(kernel::GBufferBlock{view.viewFromWorld, view.clipFromView()}, kernel::kGBufferBlock);
         mesh_.bind(kernel::kTriangleNormalsBuffer);
         mesh_.draw();
     }

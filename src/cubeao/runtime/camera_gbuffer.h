@@ -18,6 +18,7 @@
 
 #include "cubeao/gl/gpu_mesh.h"
 #include "cubeao/gl/handles.h"
+#include "cubeao/gl/uniform_block.h"
 #include "cubeao/runtime/camera_view.h"
 
 namespace cubeao {
@@ -55,6 +56,7 @@ private:
 
     gl::GpuMesh mesh_;
     gl::Program program_;
+    gl::UniformBlock block_;  // kernel::GBufferBlock, per frame
     gl::Texture depth_, normal_;
     gl::Renderbuffer zBuffer_;
     gl::Framebuffer framebuffer_;

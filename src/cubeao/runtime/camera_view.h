@@ -58,6 +58,10 @@ struct CameraView {
     // Pixels per view-space unit at view depth 1 (the focal length in pixels).
     float focalPixels() const { return kernel::cameraFocalPixels({width, height}, tanHalfFovY); }
     glm::mat3 viewFromWorldRotation() const { return glm::mat3(viewFromWorld); }
+    // What a per-pixel pass over a frameWidth × frameHeight image reads of this camera (camera.h).
+    kernel::CameraBlock block(int frameWidth, int frameHeight, std::uint32_t frameKey = 0) const {
+        return {worldFromView(), {frameWidth, frameHeight}, tanHalfFovY, frameKey};
+    }
     glm::mat4 worldFromView() const { return glm::inverse(viewFromWorld); }
 
     // View-space ray through the centre of pixel (x, y) with z = −1 (so viewPosition = ray · depth).

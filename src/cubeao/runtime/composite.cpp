@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
-#include <glm/gtc/type_ptr.hpp>
 
 #include "common/composite.h"
 #include "common/runtime_layout.h"
@@ -39,20 +38,15 @@ Composite::Composite(const CompositeSettings& settings) : settings_(settings) {
     if (!(settings.alpha >= 0.0f && settings.alpha <= 1.0f)) throw UsageError("--alpha must lie in [0, 1]");
     settings_.lightDirection = glm::normalize(settings.lightDirection);
     program_ = gl::compileComputeProgram("runtime/composite.comp");
-    const GLuint p = program_.id();
-    glProgramUniform1f(p, gl::uniformLocation(p, "alpha"), settings.alpha);
-    glProgramUniform1f(p, gl::uniformLocation(p, "ambient"), settings.ambient);
-    glProgramUniform1f(p, gl::uniformLocation(p, "diffuse"), settings.diffuse);
-    glProgramUniform3fv(p, gl::uniformLocation(p, "albedo"), 1, glm::value_ptr(settings.albedo));
-    glProgramUniform3fv(p, gl::uniformLocation(p, "sky"), 1, glm::value_ptr(settings.sky));
 }
 
 void Composite::run(const CameraGBuffer& gbuffer, const CameraView& view, GLuint ao, GLuint output) {
-    const GLuint p = program_.id();
-    const glm::vec3 light = glm::normalize(view.viewFromWorldRotation() * settings_.lightDirection);
-    glProgramUniform2i(p, gl::uniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
-    glProgramUniform3fv(p, gl::uniformLocation(p, "light"), 1, glm::value_ptr(light));
-    glUseProgram(p);
+    const CompositeSettings& s = settings_;
+    const glm::vec3 light = glm::normalize(view.viewFromWorldRotation() * s.lightDirection);
+    glUseProgram(program_.id());
+    block_.upload(kernel::CompositeBlock{light, s.alpha, s.albedo, s.ambient, s.sky, s.diffuse,
+                                         {gbuffer.width(), gbuffer.height()}},
+                  kernel::kCompositeBlock);
     glBindTextureUnit(kernel::kGBufferDepthUnit, gbuffer.depthTexture());
     glBindTextureUnit(kernel::kGBufferNormalUnit, gbuffer.normalTexture());
     glBindTextureUnit(kernel::kAoInputUnit, ao);

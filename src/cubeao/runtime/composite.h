@@ -7,6 +7,7 @@
 #include <glm/vec3.hpp>
 
 #include "cubeao/gl/handles.h"
+#include "cubeao/gl/uniform_block.h"
 #include "cubeao/runtime/camera_gbuffer.h"
 #include "cubeao/runtime/camera_view.h"
 
@@ -40,6 +41,7 @@ public:
 private:
     CompositeSettings settings_;
     gl::Program program_;
+    gl::UniformBlock block_;  // kernel::CompositeBlock, per frame
 };
 
 }  // namespace cubeao

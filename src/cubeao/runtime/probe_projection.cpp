@@ -5,7 +5,6 @@
 #include <limits>
 
 #include <glm/geometric.hpp>
-#include <glm/gtc/type_ptr.hpp>
 #include <spdlog/spdlog.h>
 
 #include "common/projection.h"
@@ -127,10 +126,7 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
 
     program_ = gl::compileComputeProgram("runtime/project.comp");
     uploadProjectBlock();
-    countProgram_ = gl::compileComputeProgram("runtime/cell_residency.comp");
-    glProgramUniform1ui(countProgram_.id(), gl::uniformLocation(countProgram_.id(), "cellCount"),
-                        GLuint(grid_->cellCount()));
-    glProgramUniform1i(countProgram_.id(), gl::uniformLocation(countProgram_.id(), "candidatesPerCell"), candidates_);
+    countProgram_ = gl::compileComputeProgram("runtime/cell_residency.comp");  // reads block_ too
 }
 
 ProbeProjectionPass::~ProbeProjectionPass() = default;
@@ -147,6 +143,7 @@ void ProbeProjectionPass::uploadProjectBlock() {
     b.residentDims = nearest_->dims();
     b.residentPerCell = std::max(settings_.residentCandidates, 0);
     b.uncoveredAo = uncoveredAo_;
+    b.cellCount = std::uint32_t(grid_->cellCount());
     b.params = {project.depthTolerance, project.depthSlope, project.minFacing, res_, depthRes_};
     if (block_.id() == 0)
         block_ = gl::UniformBlock::create(b);
@@ -212,6 +209,7 @@ void ProbeProjectionPass::countResidentCandidates() {
     countedVersion_ = residency_->residentVersion();
     cellsChanged_ = false;
     glUseProgram(countProgram_.id());
+    block_.bind(kernel::kProjectBlock);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kProbeTableBuffer, residency_->tableBuffer());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kCandidateBuffer, cells_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kCellResidentCountBuffer, residentCounts_.id());
@@ -257,12 +255,9 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
     countResidentCandidates();
     const GLuint p = diagnostics_ ? diagnosticsProgram_.id() : program_.id();
     glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-    glProgramUniform2i(p, gl::uniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
-    glProgramUniform1f(p, gl::uniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
-    const glm::mat4 worldFromView = view.worldFromView();
-    glProgramUniformMatrix4fv(p, gl::uniformLocation(p, "worldFromView"), 1, GL_FALSE, glm::value_ptr(worldFromView));
     glUseProgram(p);
     block_.bind(kernel::kProjectBlock);
+    camera_.upload(view.block(gbuffer.width(), gbuffer.height()), kernel::kCameraBlock);
     glBindTextureUnit(kernel::kGBufferDepthUnit, gbuffer.depthTexture());
     glBindTextureUnit(kernel::kGBufferNormalUnit, gbuffer.normalTexture());
     residency_->bind();

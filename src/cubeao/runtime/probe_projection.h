@@ -136,7 +136,8 @@ private:
     std::unique_ptr<AoFallback> fallback_;
     gl::Program program_;
     gl::Program diagnosticsProgram_;  // project.comp with PROJECT_DIAGNOSTICS, built on first use
-    gl::UniformBlock block_;          // both programs' parameters
+    gl::UniformBlock block_;          // both programs' parameters (and the cell count's)
+    gl::UniformBlock camera_;         // the frame's CameraBlock
     gl::Texture diagnosticsImage_;
     int diagnosticsWidth_ = 0, diagnosticsHeight_ = 0;
     bool diagnostics_ = false;

@@ -19,7 +19,7 @@ GtaoFallback::GtaoFallback(const SsaoSettings& settings) : settings_(settings) {
     const kernel::FallbackList emptyList{0u, 1u, 1u, 0u};  // an indirect dispatch of no group
     emptyList_ = gl::Buffer::create();
     glNamedBufferStorage(emptyList_.id(), sizeof emptyList, &emptyList, 0);
-    setSsaoUniforms(fill_.id(), SsaoMethod::Gtao, settings);  // as SsaoPass sets its gtao program's: the same estimate per pixel
+    block_ = gl::UniformBlock::create(ssaoBlock(settings));  // as SsaoPass's gtao: the same estimate per pixel
 }
 
 void GtaoFallback::fill(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) {
@@ -47,9 +47,8 @@ void GtaoFallback::fill(const CameraGBuffer& gbuffer, const CameraView& view, st
     glCopyNamedBufferSubData(emptyList_.id(), workList_.id(), 0, 0, sizeof(kernel::FallbackList));
     glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
 
-    for (GLuint p : {mark_.id(), select_.id(), fill_.id()}) glProgramUniform2i(p, gl::uniformLocation(p, "frameSize"), w, h);
-    glProgramUniform1f(fill_.id(), gl::uniformLocation(fill_.id(), "tanHalfFovY"), view.tanHalfFovY);  // only the fill estimates
-    glProgramUniform1ui(fill_.id(), gl::uniformLocation(fill_.id(), "frameKey"), frame ^ settings_.seed);
+    block_.bind(kernel::kSsaoBlock);
+    camera_.upload(view.block(w, h, frame ^ settings_.seed), kernel::kCameraBlock);
     glBindTextureUnit(kernel::kGBufferDepthUnit, gbuffer.depthTexture());
     glBindTextureUnit(kernel::kGBufferNormalUnit, gbuffer.normalTexture());
     glBindImageTexture(kernel::kAoImageUnit, aoImage, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);

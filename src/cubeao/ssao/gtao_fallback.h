@@ -22,6 +22,7 @@
 
 #include "common/runtime_layout.h"
 #include "cubeao/gl/handles.h"
+#include "cubeao/gl/uniform_block.h"
 #include "cubeao/runtime/ao_pass.h"
 #include "cubeao/ssao/ssao_settings.h"
 
@@ -46,6 +47,8 @@ public:
 private:
     SsaoSettings settings_;
     gl::Program mark_, select_, fill_;
+    gl::UniformBlock block_;   // kernel::SsaoBlock, fixed: the gtao baseline's
+    gl::UniformBlock camera_;  // kernel::CameraBlock, per frame (all three passes)
     gl::Buffer tiles_, tileList_, workList_, counters_;
     gl::Buffer emptyList_;          // kernel::FallbackList {0, 1, 1, 0}: copied to both lists' heads every frame
     std::size_t tileCapacity_ = 0;  // tiles that the buffers hold (the work list: their pixels)

@@ -6,42 +6,24 @@
 #include "cubeao/gl/shader.h"
 
 namespace cubeao {
-namespace {
 
-void setInt(GLuint program, const char* name, int v) { glProgramUniform1i(program, gl::uniformLocation(program, name), v); }
-void setFloat(GLuint program, const char* name, float v) {
-    glProgramUniform1f(program, gl::uniformLocation(program, name), v);
-}
-
-}  // namespace
-
-void setSsaoUniforms(GLuint p, SsaoMethod method, const SsaoSettings& settings) {
-    setFloat(p, "radius", settings.radius);
-    setInt(p, "falloff", falloffUniform(settings.falloff));
-    setInt(p, "directions", settings.directions);
-    setInt(p, "steps", settings.steps);
-    setFloat(p, "maxRadiusPixels", settings.maxRadiusPixels);
-    if (method != SsaoMethod::Alchemy) return;
-    setFloat(p, "intensity", settings.alchemyIntensity);
-    setFloat(p, "contrast", settings.alchemyContrast);
-    setFloat(p, "bias", settings.alchemyBias);
-    setFloat(p, "epsilon", settings.alchemyEpsilon);
+kernel::SsaoBlock ssaoBlock(const SsaoSettings& s) {
+    return {s.radius,          falloffUniform(s.falloff), s.directions,     s.steps,         s.maxRadiusPixels,
+            s.alchemyIntensity, s.alchemyContrast,        s.alchemyBias,    s.alchemyEpsilon};
 }
 
 SsaoPass::SsaoPass(const SsaoSettings& settings) : settings_(settings) {
     program_ = gl::compileComputeProgram(std::string("ssao/") + ssaoMethodName(settings.method) + ".comp");
     fetchCount_ = gl::Buffer::create();
     glNamedBufferStorage(fetchCount_.id(), kernel::kPassCounterBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    setSsaoUniforms(program_.id(), settings.method, settings);  // fixed for the pass's lifetime
+    block_ = gl::UniformBlock::create(ssaoBlock(settings));
 }
 
 void SsaoPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) {
-    const GLuint p = program_.id();
     glClearNamedBufferData(fetchCount_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-    glProgramUniform2i(p, gl::uniformLocation(p, "frameSize"), gbuffer.width(), gbuffer.height());
-    glProgramUniform1f(p, gl::uniformLocation(p, "tanHalfFovY"), view.tanHalfFovY);
-    glProgramUniform1ui(p, gl::uniformLocation(p, "frameKey"), frame ^ settings_.seed);
-    glUseProgram(p);
+    glUseProgram(program_.id());
+    block_.bind(kernel::kSsaoBlock);
+    camera_.upload(view.block(gbuffer.width(), gbuffer.height(), frame ^ settings_.seed), kernel::kCameraBlock);
     glBindTextureUnit(kernel::kGBufferDepthUnit, gbuffer.depthTexture());
     glBindTextureUnit(kernel::kGBufferNormalUnit, gbuffer.normalTexture());
     glBindImageTexture(kernel::kAoImageUnit, aoImage, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);

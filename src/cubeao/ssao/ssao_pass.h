@@ -3,16 +3,18 @@
 // computes and its parameters: ssao_settings.h.
 #pragma once
 
+#include "common/runtime_layout.h"
 #include "cubeao/gl/handles.h"
+#include "cubeao/gl/uniform_block.h"
 #include "cubeao/runtime/ao_pass.h"
 #include "cubeao/ssao/ssao_settings.h"
 
 namespace cubeao {
 
-// Sets the uniforms of a screen-space AO program of `method` that `settings` fix for its lifetime:
-// SsaoPass's, and the GTAO fallback's (gtao_fallback.h, method Gtao), so a filled pixel is estimated
-// exactly as the gtao pass estimates it. Alchemy's four constants only exist in its program.
-void setSsaoUniforms(GLuint program, SsaoMethod method, const SsaoSettings& settings);
+// The block of a screen-space AO program's parameters that `settings` fix for its lifetime:
+// SsaoPass's, and the GTAO fallback's (gtao_fallback.h), so a filled pixel is estimated exactly as
+// the gtao pass estimates it.
+kernel::SsaoBlock ssaoBlock(const SsaoSettings& settings);
 
 class SsaoPass final : public AoPass {
 public:
@@ -28,6 +30,8 @@ public:
 private:
     SsaoSettings settings_;
     gl::Program program_;
+    gl::UniformBlock block_;   // kernel::SsaoBlock, fixed
+    gl::UniformBlock camera_;  // kernel::CameraBlock, per frame
     gl::Buffer fetchCount_;
     double pixels_ = 0.0;  // of the last run
 };
