@@ -7,6 +7,7 @@
 #include "cubeao/gl/shader.h"
 #include "cubeao/gl/sync.h"
 #include "cubeao/gl/timer.h"
+#include "cubeao/gl/uniform_block.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -317,7 +318,8 @@ TEST_F(GlTest, FencePassesAfterTheWorkBeforeItAndThenIsEmpty) {
 // values and tag; a full ring drops its oldest unread slot instead of waiting.
 TEST_F(GlTest, ReadbackRingReturnsEachPushOldestFirstAndDropsWhenFull) {
     const std::string src = "#version 450 core\nlayout(local_size_x = 1) in;\n"
-                            "layout(std430, binding = 0) buffer Out { uint words[]; };\nuniform uint base;\n"
+                            "layout(std430, binding = 0) buffer Out { uint words[]; };\n"
+                            "layout(std140, binding = 0) uniform Params { uint base; };\n"
                             "void main() { atomicAdd(words[gl_WorkGroupID.x], base + gl_WorkGroupID.x); }\n";
     const gl::Program program = gl::buildProgram({{GL_COMPUTE_SHADER, src, "ring_test.comp"}});
     constexpr std::size_t kWords = 5;
@@ -333,10 +335,13 @@ TEST_F(GlTest, ReadbackRingReturnsEachPushOldestFirstAndDropsWhenFull) {
     EXPECT_FALSE(ring.poll());
     EXPECT_NE(errorMessage([&] { ring.wait(); }).find("nothing is in flight"), std::string::npos);
 
-    const auto run = [&](int tag) {  // words[i] = 100 · tag + i, written by the shader's atomics
+    // words[i] = 100 · tag + i, written by the shader's atomics; each dispatch reads the block as set
+    // before it (gl::UniformBlock updates are ordered with the dispatches around them).
+    gl::UniformBlock params;
+    const auto run = [&](int tag) {
         glClearNamedBufferData(source.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
         glUseProgram(program.id());
-        glUniform1ui(glGetUniformLocation(program.id(), "base"), GLuint(100 * tag));
+        params.upload(std::uint32_t(100 * tag), 0);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, source.id());
         glDispatchCompute(kWords, 1, 1);
         ring.push(source.id(), tag);
