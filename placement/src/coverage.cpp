@@ -24,45 +24,6 @@ float CoverageCriterion::footprint(const glm::vec3& probe, const glm::vec3& x, c
     return float(texelFootprint(probe, x, n, res, minFacing));
 }
 
-std::vector<SurfaceSample> sampleSurface(const Scene& scene, std::size_t points, std::uint32_t seed) {
-    const std::size_t triangles = scene.triangleCount();
-    std::vector<double> cumulative(triangles);
-    double total = 0.0;
-    for (std::size_t t = 0; t < triangles; ++t) {
-        const glm::vec3 a = scene.positions[scene.indices[3 * t]], b = scene.positions[scene.indices[3 * t + 1]],
-                        c = scene.positions[scene.indices[3 * t + 2]];
-        total += 0.5 * double(glm::length(glm::cross(b - a, c - a)));
-        cumulative[t] = total;
-    }
-    std::vector<SurfaceSample> samples;
-    if (points == 0 || !(total > 0.0)) return samples;
-    samples.reserve(2 * points);
-    const float area = float(total / double(points));
-    for (std::size_t i = 0; i < points; ++i) {
-        // Stratified: point i falls in the i-th of `points` equal slices of the cumulative area.
-        const std::uint32_t key = sampling::hashKey(std::uint32_t(i), seed, 0x5A3F1u);
-        const double u = (double(i) + double(sampling::toUnitFloat(key))) / double(points) * total;
-        const std::size_t t = std::min<std::size_t>(
-            std::size_t(std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin()), triangles - 1);
-        // The corners in a fixed order (by position), not the winding's: a model with faces reversed is
-        // sampled at the same points with the same two sides in the same order (issue 31).
-        std::array<glm::vec3, 3> corner{scene.positions[scene.indices[3 * t]], scene.positions[scene.indices[3 * t + 1]],
-                                        scene.positions[scene.indices[3 * t + 2]]};
-        std::sort(corner.begin(), corner.end(), [](const glm::vec3& l, const glm::vec3& r) {
-            return l.x != r.x ? l.x < r.x : l.y != r.y ? l.y < r.y : l.z < r.z;
-        });
-        const auto& [a, b, c] = corner;
-        // Uniform in the triangle: the square-root map of two hashed numbers.
-        const float r1 = std::sqrt(sampling::toUnitFloat(sampling::hash32(key ^ 0x68E31DA4u)));
-        const float r2 = sampling::toUnitFloat(sampling::hash32(key ^ 0xB5297A4Du));
-        const glm::vec3 p = (1.0f - r1) * a + r1 * (1.0f - r2) * b + r1 * r2 * c;
-        const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
-        samples.push_back({p, n, area, std::uint32_t(t)});
-        samples.push_back({p, -n, area, std::uint32_t(t)});
-    }
-    return samples;
-}
-
 std::vector<float> imageShare(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
                               std::span<const PinholeCamera> cameras, float nearPlane, float farPlane) {
     const float eps = embree.surfaceEpsilon();

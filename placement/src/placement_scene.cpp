@@ -75,7 +75,7 @@ PlacementScene::PlacementScene(const Scene& scene, const PlaceSettings& settings
         }
     }
     embree_ = std::make_unique<EmbreeScene>(scene);
-    samples_ = sampleSurface(scene, settings_.samples, settings_.seed);
+    samples_ = sampleSurface(scene.positions, scene.indices, settings_.samples, settings_.seed);
     timings_.emplace_back("samples", watch.restart());
     // The walk's eyes are known to be free: they seed the flood of free space (free_space.h).
     if (camera)

@@ -24,8 +24,8 @@ bool contains(std::span<const std::uint32_t> list, std::uint32_t probe) {
 }
 
 // Floor points (normal up) every 0.25 along x in [0, 10) at z = 1.
-std::vector<SurfacePoint> floorLine() {
-    std::vector<SurfacePoint> points;
+std::vector<SurfaceSample> floorLine() {
+    std::vector<SurfaceSample> points;
     for (float x = 0.125f; x < 10.0f; x += 0.25f) points.push_back({{x, 0.0f, 1.0f}, {0.0f, 1.0f, 0.0f}});
     return points;
 }
@@ -33,7 +33,7 @@ std::vector<SurfacePoint> floorLine() {
 TEST(ProbeGrid, ProbesBehindAWallLoseToFartherOnesThatSeeTheCell) {
     // Five probes on a line; a wall at x = 5.2 that probes on the far side cannot see through.
     const std::vector<glm::vec3> probes = {{0.5f, 1, 1}, {2.5f, 1, 1}, {4.5f, 1, 1}, {5.5f, 1, 1}, {9.5f, 1, 1}};
-    const auto quality = [&](std::uint32_t p, const SurfacePoint& x) {
+    const auto quality = [&](std::uint32_t p, const SurfaceSample& x) {
         if ((probes[p].x < 5.2f) != (x.position.x < 5.2f)) return 0.0;
         const glm::vec3 d = x.position - probes[p];
         return 1.0 / double(glm::dot(d, d));
@@ -61,12 +61,12 @@ TEST(ProbeGrid, AFarProbeWithTheOnlyViewOfASurfaceBeatsNearerOnes) {
     std::vector<glm::vec3> probes;
     for (int i = 0; i < 8; ++i) probes.push_back({3.0f - 0.2f * float(i), 1.0f, 0.5f + 0.1f * float(i)});
     probes.push_back({9.0f, 1.0f, 1.0f});  // index 8
-    std::vector<SurfacePoint> points;
+    std::vector<SurfaceSample> points;
     for (float y = 0.1f; y < 1.0f; y += 0.2f) {
         points.push_back({{4.45f, y, 1.0f}, {-1.0f, 0.0f, 0.0f}});  // west face
         points.push_back({{4.55f, y, 1.0f}, {1.0f, 0.0f, 0.0f}});   // east face
     }
-    const auto quality = [&](std::uint32_t p, const SurfacePoint& x) {
+    const auto quality = [&](std::uint32_t p, const SurfaceSample& x) {
         const glm::vec3 d = x.position - probes[p];
         if (!(glm::dot(x.normal, d) < 0.0f)) return 0.0;  // the face looks away from the probe
         return 1.0 / double(glm::dot(d, d));
@@ -82,47 +82,12 @@ TEST(ProbeGrid, AFarProbeWithTheOnlyViewOfASurfaceBeatsNearerOnes) {
 TEST(ProbeGrid, WorkPerPointStaysKAndMemoryIsCapped) {
     std::vector<glm::vec3> probes;
     for (int i = 0; i < 1000; ++i) probes.push_back({float(i % 10) + 0.5f, float(i / 100) * 0.3f, float((i / 10) % 10) + 0.5f});
-    const ProbeGrid grid({0, 0, 0}, {10, 3, 10}, probes, floorLine(), [](std::uint32_t, const SurfacePoint&) { return 1.0; },
+    const ProbeGrid grid({0, 0, 0}, {10, 3, 10}, probes, floorLine(), [](std::uint32_t, const SurfaceSample&) { return 1.0; },
                          {8, 0.05f, 4096, 0, 0});
     EXPECT_LE(std::size_t(grid.dims().x) * grid.dims().y * grid.dims().z, 4096u) << "cells grow to fit the cap";
     EXPECT_EQ(grid.candidates({5, 1, 5}).size(), 8u);
     EXPECT_EQ(grid.candidates({0.2f, 0.0f, 1.0f}).size(), 8u);
     EXPECT_EQ(grid.table().size(), std::size_t(grid.dims().x) * grid.dims().y * grid.dims().z * 8u);
-}
-
-TEST(SurfaceSamples, BothSidesAtTheRequestedDensityAndDeterministic) {
-    // A 2 × 3 rectangle at z = 1 as two triangles, and a degenerate triangle that must give nothing.
-    const std::vector<glm::vec3> positions = {{0, 0, 1}, {2, 0, 1}, {2, 3, 1}, {0, 3, 1}, {5, 5, 5}};
-    const std::vector<std::uint32_t> indices = {0, 1, 2, 0, 2, 3, 4, 4, 4};
-    const std::vector<SurfacePoint> points = sampleSurface(positions, indices, 0.1f);
-    // 6 m² at 100 points per m², per side: 600 expected, stochastic rounding adds at most 1 per triangle.
-    ASSERT_EQ(points.size() % 2, 0u);
-    EXPECT_NEAR(double(points.size() / 2), 600.0, 2.0);
-    std::size_t up = 0;
-    for (const SurfacePoint& p : points) {
-        EXPECT_NEAR(p.position.z, 1.0f, 1e-5f);
-        EXPECT_GE(p.position.x, -1e-5f);
-        EXPECT_LE(p.position.x, 2.0f + 1e-5f);
-        EXPECT_GE(p.position.y, -1e-5f);
-        EXPECT_LE(p.position.y, 3.0f + 1e-5f);
-        EXPECT_NEAR(std::fabs(p.normal.z), 1.0f, 1e-6f);
-        up += p.normal.z > 0.0f;
-    }
-    EXPECT_EQ(up, points.size() / 2);
-    // Spread evenly: each 1 × 1 square of the rectangle holds about 100 per side (±4 σ of Poisson).
-    for (int sx = 0; sx < 2; ++sx)
-        for (int sy = 0; sy < 3; ++sy) {
-            const auto n = std::count_if(points.begin(), points.end(), [&](const SurfacePoint& p) {
-                return p.normal.z > 0.0f && int(p.position.x) == sx && int(p.position.y) == sy;
-            });
-            EXPECT_NEAR(double(n), 100.0, 40.0) << sx << "," << sy;
-        }
-    // A cap on the count widens the spacing instead.
-    EXPECT_LE(sampleSurface(positions, indices, 0.1f, 200).size(), 204u);
-    EXPECT_GE(sampleSurface(positions, indices, 0.1f, 200).size(), 190u);
-    const std::vector<SurfacePoint> again = sampleSurface(positions, indices, 0.1f);
-    ASSERT_EQ(again.size(), points.size());
-    for (std::size_t i = 0; i < points.size(); ++i) EXPECT_EQ(again[i].position, points[i].position);
 }
 
 // ---- the second list: the K probes of a set nearest each cell (nearest_lists.h) -------------------

@@ -19,12 +19,12 @@ using namespace cubeao;
 
 // A 8 × 2 × 8 m room of 1 m cells, K = 2; every probe sees every point, nearer better.
 ProbeGrid roomGrid(const std::vector<glm::vec3>& probes) {
-    std::vector<SurfacePoint> points;
+    std::vector<SurfaceSample> points;
     for (int x = 0; x < 16; ++x)
         for (int z = 0; z < 16; ++z) points.push_back({{0.25f + 0.5f * float(x), 0.0f, 0.25f + 0.5f * float(z)}, {0, 1, 0}});
     auto positions = std::make_shared<std::vector<glm::vec3>>(probes);
     return ProbeGrid({0, 0, 0}, {8, 2, 8}, probes, points,
-                     [positions](std::uint32_t p, const SurfacePoint& x) {
+                     [positions](std::uint32_t p, const SurfaceSample& x) {
                          const float d = glm::length((*positions)[p] - x.position);
                          return 1.0 / (1.0 + double(d) * d);
                      },

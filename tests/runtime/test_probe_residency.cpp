@@ -33,7 +33,7 @@ using namespace cubeao;
 
 // A quality that depends on the probe's position and the point, like the real one (nearer is better,
 // some probes do not see some points), deterministic so two grids can be compared.
-double pseudoQuality(const glm::vec3& probe, const SurfacePoint& x) {
+double pseudoQuality(const glm::vec3& probe, const SurfaceSample& x) {
     const float d = glm::length(probe - x.position);
     const auto h = std::uint32_t(std::fabs(probe.x * 73.0f + probe.z * 31.0f + x.position.x * 17.0f + x.position.z * 7.0f));
     if (h % 5 == 0) return 0.0;  // "behind a wall"
@@ -42,7 +42,7 @@ double pseudoQuality(const glm::vec3& probe, const SurfacePoint& x) {
 
 struct GridCase {
     std::vector<glm::vec3> probes;
-    std::vector<SurfacePoint> points;
+    std::vector<SurfaceSample> points;
     ProbeGridSettings settings{2, 1.0f, 0, 6, 16};  // K = 2, 1 m cells, 6 competitors, 16 points
 };
 
@@ -59,7 +59,7 @@ ProbeGrid buildGrid(const std::vector<glm::vec3>& probes, const GridCase& c) {
     // The quality looks probes up by id in `probes` as the grid knows them; copy so later adds see theirs.
     auto positions = std::make_shared<std::vector<glm::vec3>>(probes);
     return ProbeGrid({0, 0, 0}, {8, 2, 8}, probes, c.points,
-                     [positions](std::uint32_t p, const SurfacePoint& x) { return pseudoQuality((*positions)[p], x); },
+                     [positions](std::uint32_t p, const SurfaceSample& x) { return pseudoQuality((*positions)[p], x); },
                      c.settings);
 }
 
@@ -67,7 +67,7 @@ TEST(ProbeGridLive, AddingAProbeGivesTheTableOfAGridBuiltWithItAndTouchesOnlyNea
     const GridCase c = gridCase(40);
     auto positions = std::make_shared<std::vector<glm::vec3>>(c.probes.begin(), c.probes.end() - 1);
     ProbeGrid live({0, 0, 0}, {8, 2, 8}, *positions, c.points,
-                   [positions](std::uint32_t p, const SurfacePoint& x) { return pseudoQuality((*positions)[p], x); },
+                   [positions](std::uint32_t p, const SurfaceSample& x) { return pseudoQuality((*positions)[p], x); },
                    c.settings);
     positions->push_back(c.probes.back());
     const std::vector<std::size_t> changed = live.addProbe(c.probes.back());

@@ -13,17 +13,11 @@
 #include "common/projection.h"
 #include "common/runtime_layout.h"
 #include "cubeao/core/error.h"
-#include "cubeao/core/sampling.h"
 
 namespace cubeao {
 namespace {
 
 constexpr std::uint32_t kNone = kernel::kNoProbe;
-
-// Uniform in [0, 1) from a triangle index and a counter (sampling.h's hash: deterministic).
-float unit(std::uint32_t triangle, std::uint32_t counter) {
-    return sampling::toUnitFloat(sampling::hashKey(triangle, counter, 0x9a1du));
-}
 
 // The K of one cell, chosen greedily for the sum over its points of the best three normalised
 // qualities (the blend uses the best two, weighted against the third). `nearest` are the competing
@@ -70,38 +64,8 @@ void chooseCandidates(std::span<const std::uint32_t> nearest, std::vector<double
 
 }  // namespace
 
-std::vector<SurfacePoint> sampleSurface(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
-                                        float spacing, std::size_t maxPoints) {
-    double area = 0.0;
-    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
-        const glm::vec3 a = positions[indices[t]], b = positions[indices[t + 1]], c = positions[indices[t + 2]];
-        area += 0.5 * double(glm::length(glm::cross(b - a, c - a)));
-    }
-    const double perArea = std::min(1.0 / (double(spacing) * spacing), double(maxPoints) / std::max(2.0 * area, 1e-30));
-    std::vector<SurfacePoint> points;
-    points.reserve(std::min(maxPoints, std::size_t(2.0 * area * perArea) + indices.size()));
-    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
-        const glm::vec3 a = positions[indices[t]], b = positions[indices[t + 1]], c = positions[indices[t + 2]];
-        const glm::vec3 cross = glm::cross(b - a, c - a);
-        const float twiceArea = glm::length(cross);
-        if (!(twiceArea > 0.0f)) continue;
-        const glm::vec3 n = cross / twiceArea;
-        const auto tri = std::uint32_t(t / 3);
-        const double expected = 0.5 * double(twiceArea) * perArea;
-        auto count = std::uint32_t(expected);
-        if (unit(tri, 0) < expected - double(count)) ++count;  // stochastic rounding keeps the density
-        for (std::uint32_t i = 0; i < count; ++i) {
-            const float r = std::sqrt(unit(tri, 2 * i + 1)), v = unit(tri, 2 * i + 2);  // uniform on the triangle
-            const glm::vec3 x = (1.0f - r) * a + r * (1.0f - v) * b + r * v * c;
-            points.push_back({x, n});
-            points.push_back({x, -n});
-        }
-    }
-    return points;
-}
-
 ProbeGrid::ProbeGrid(const glm::vec3& boundsMin, const glm::vec3& boundsMax, std::span<const glm::vec3> probes,
-                     std::span<const SurfacePoint> points, QualityFn quality, ProbeGridSettings s)
+                     std::span<const SurfaceSample> points, QualityFn quality, ProbeGridSettings s)
     : quality_(std::move(quality)), probes_(probes.begin(), probes.end()), alive_(probes.size(), true),
       live_(probes.size()) {
     k_ = s.candidates > 0 ? s.candidates : 8;
@@ -127,7 +91,7 @@ ProbeGrid::ProbeGrid(const glm::vec3& boundsMin, const glm::vec3& boundsMax, std
     std::shuffle(order.begin(), order.end(), std::mt19937(12345u));
     cellPoints_.resize(cells);
     for (std::uint32_t i : order) {
-        std::vector<SurfacePoint>& list = cellPoints_[cellOf(points[i].position)];
+        std::vector<SurfaceSample>& list = cellPoints_[cellOf(points[i].position)];
         if (list.size() < perCell) list.push_back(points[i]);
     }
     for (std::size_t c = 0; c < cells; ++c) choose(c);
@@ -159,7 +123,7 @@ void ProbeGrid::choose(std::size_t cell) {
                                                 : distance2_[order_[considered - 1]];
     if (considered == 0) return;
     const std::span<const std::uint32_t> nearest(order_.data(), considered);
-    const std::vector<SurfacePoint>& mine = cellPoints_[cell];
+    const std::vector<SurfaceSample>& mine = cellPoints_[cell];
     quality2_.assign(considered * mine.size(), 0.0);
     for (std::size_t p = 0; p < considered; ++p)
         for (std::size_t i = 0; i < mine.size(); ++i) quality2_[p * mine.size() + i] = quality_(nearest[p], mine[i]);

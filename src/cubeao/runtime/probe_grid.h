@@ -25,6 +25,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "cubeao/core/surface_samples.h"
+
 namespace cubeao {
 
 struct ProbeGridSettings {
@@ -34,17 +36,6 @@ struct ProbeGridSettings {
     int considered = 0;      // probes nearest a cell's centre that compete for it; 0 → max(8 K, 64)
     int pointsPerCell = 0;   // surface points per cell used for the choice (a fixed subset); 0 → 128
 };
-
-// A surface point as a camera could see it: position and the unit normal of the side seen.
-struct SurfacePoint {
-    glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f};
-};
-
-// About one point per spacing² of area on each side of every triangle of the mesh (area-weighted,
-// stochastic rounding per triangle; deterministic), the spacing widened where needed to stay within
-// maxPoints. Degenerate triangles give none.
-std::vector<SurfacePoint> sampleSurface(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
-                                        float spacing, std::size_t maxPoints = std::size_t(1) << 22);
 
 // The probe set is live (DESIGN.md §4 "Run time that grows"): probes can be added and removed after
 // construction, and only the cells whose competition a probe joins or leaves are chosen again, with
@@ -56,11 +47,11 @@ class ProbeGrid {
 public:
     // quality(probe, point) ≥ 0: how well `probe` shades `point`; 0 = not at all. Kept and called
     // again when probes are added or removed.
-    using QualityFn = std::function<double(std::uint32_t probe, const SurfacePoint& point)>;
+    using QualityFn = std::function<double(std::uint32_t probe, const SurfaceSample& point)>;
 
     // Probe ids are the indices of `probes`.
     ProbeGrid(const glm::vec3& boundsMin, const glm::vec3& boundsMax, std::span<const glm::vec3> probes,
-              std::span<const SurfacePoint> points, QualityFn quality, ProbeGridSettings settings);
+              std::span<const SurfaceSample> points, QualityFn quality, ProbeGridSettings settings);
 
     // Adds a probe with the next id (probeCount() before the call) and returns the cells chosen again
     // (ascending).
@@ -107,7 +98,7 @@ private:
     std::vector<glm::vec3> probes_;
     std::vector<bool> alive_;
     std::size_t live_ = 0;
-    std::vector<std::vector<SurfacePoint>> cellPoints_;  // each cell's points, at most pointsPerCell
+    std::vector<std::vector<SurfaceSample>> cellPoints_;  // each cell's points, at most pointsPerCell
     std::vector<float> reach2_;  // per cell: squared distance of its farthest competitor (inf: all compete)
     // Scratch of choose().
     std::vector<std::uint32_t> order_;

@@ -86,7 +86,7 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     // distance texel straight from the stored bytes.
     const ProjectSettings project = resolveProjectSettings({});
     auto touched = std::make_shared<TouchedProbes>(source_);
-    const auto quality = [this, project, touched](std::uint32_t probe, const SurfacePoint& x) {
+    const auto quality = [this, project, touched](std::uint32_t probe, const SurfaceSample& x) {
         touched->touch(probe);
         const glm::vec3 at = source_.position(ProbeId{probe});
         if (x.position == at) return 0.0;  // no direction to look up
@@ -101,8 +101,9 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     std::vector<glm::vec3> probePositions(source_.size());
     for (std::uint32_t i = 0; i < probePositions.size(); ++i) probePositions[i] = source_.position(ProbeId{i});
     {
-        const std::vector<SurfacePoint> points =
-            sampleSurface(meshPositions, meshIndices, gridSettings.cellSize / 8.0f);
+        // About 64 points per cell face's area on each side, at most 4M samples.
+        const std::size_t count = surfacePointsFor(meshPositions, meshIndices, gridSettings.cellSize / 8.0f, 1u << 22);
+        const std::vector<SurfaceSample> points = sampleSurface(meshPositions, meshIndices, count, 0u);
         grid_ = std::make_unique<ProbeGrid>(boundsMin, boundsMax, probePositions, points, quality, gridSettings);
     }
     touched->releaseAll();

@@ -17,6 +17,7 @@
 #include <glm/vec3.hpp>
 
 #include "cubeao/core/camera.h"
+#include "cubeao/core/surface_samples.h"
 
 namespace cubeao {
 class EmbreeScene;
@@ -45,18 +46,6 @@ struct CoverageCriterion {
     // The criterion as the shared kernel (shaders/common/coverage.h) takes it.
     kernel::CoverageParams kernelParams() const;
 };
-
-struct SurfaceSample {
-    glm::vec3 position{0.0f};
-    glm::vec3 normal{0.0f};  // unit, the side this sample stands for
-    float area = 0.0f;       // the surface area it stands for
-    std::uint32_t triangle = 0;
-};
-
-// `points` area-uniform points (stratified along the cumulative area of the triangles, jittered by
-// `seed`), each returned twice, once per side: samples 2i and 2i + 1 share a position. Deterministic, and
-// the same whichever way the faces are wound (each triangle's corners are taken in order of position).
-std::vector<SurfaceSample> sampleSurface(const Scene& scene, std::size_t points, std::uint32_t seed);
 
 // How much of a camera path's images each sample fills: the mean over frames of the solid angle it
 // subtends (area · cos / distance², in the frame's view within the far plane, facing its eye, nothing
