@@ -351,7 +351,7 @@ TEST_F(LivePlacementGl, BoxRoomWalkFromNoProbesReachesTargetAndSavesAVerifiedCac
     EXPECT_EQ(s.baked, s.placed) << "drain bakes everything placed";
     EXPECT_EQ(s.queued, 0u);
     EXPECT_EQ(s.inPass, s.placed);
-    EXPECT_EQ(pass.grid().liveProbes(), s.placed) << "the pass holds every probe once (re-bakes replaced theirs)";
+    EXPECT_EQ(pass.source().probes().liveCount(), s.placed) << "the pass holds every probe once (re-bakes replaced theirs)";
     EXPECT_GE(idled.rebaked, 1u) << "standing still re-bakes with traced";
     // Every walk frame asks for a count (one is put off to the next frame only while kSlots are in
     // flight, and drain() handles what is left); standing still, the view counted last is not counted
@@ -480,7 +480,7 @@ TEST_F(LivePlacementGl, ErrorObjectivePlacesWhatTheOfflineTwinPlaces) {
     EXPECT_EQ(s.stalled, nullptr);
     EXPECT_EQ(placement.feedback().probes(), twin.probes()) << "the coverage report sees the same probes, in order";
     EXPECT_DOUBLE_EQ(s.predictedMae, twin.predictedMae());
-    EXPECT_EQ(pass.grid().liveProbes(), s.placed);
+    EXPECT_EQ(pass.source().probes().liveCount(), s.placed);
 }
 
 // A fast and a traced bake that would make different sections cannot replace each other in one pass.

@@ -38,7 +38,7 @@ TEST(ProbeGrid, ProbesBehindAWallLoseToFartherOnesThatSeeTheCell) {
         const glm::vec3 d = x.position - probes[p];
         return 1.0 / double(glm::dot(d, d));
     };
-    const ProbeGrid grid({0, 0, 0}, {10, 2, 2}, probes, floorLine(), quality, {3, 1.0f, 0, 0, 0});
+    const ProbeGrid grid({0, 0, 0}, {10, 2, 2}, ProbeSet(probes), floorLine(), quality, {3, 1.0f, 0, 0, 0});
     EXPECT_EQ(grid.dims(), glm::ivec3(10, 2, 2));
     const auto near4 = grid.candidates({4.2f, 0.2f, 1.2f});
     ASSERT_EQ(near4.size(), 3u);
@@ -71,7 +71,7 @@ TEST(ProbeGrid, AFarProbeWithTheOnlyViewOfASurfaceBeatsNearerOnes) {
         if (!(glm::dot(x.normal, d) < 0.0f)) return 0.0;  // the face looks away from the probe
         return 1.0 / double(glm::dot(d, d));
     };
-    const ProbeGrid grid({0, 0, 0}, {10, 2, 2}, probes, points, quality, {4, 1.0f, 0, 0, 0});
+    const ProbeGrid grid({0, 0, 0}, {10, 2, 2}, ProbeSet(probes), points, quality, {4, 1.0f, 0, 0, 0});
     const auto list = grid.candidates({4.5f, 0.5f, 1.0f});
     ASSERT_EQ(list.size(), 4u);
     EXPECT_TRUE(contains(list, 8u)) << "the east face's only probe";
@@ -82,7 +82,7 @@ TEST(ProbeGrid, AFarProbeWithTheOnlyViewOfASurfaceBeatsNearerOnes) {
 TEST(ProbeGrid, WorkPerPointStaysKAndMemoryIsCapped) {
     std::vector<glm::vec3> probes;
     for (int i = 0; i < 1000; ++i) probes.push_back({float(i % 10) + 0.5f, float(i / 100) * 0.3f, float((i / 10) % 10) + 0.5f});
-    const ProbeGrid grid({0, 0, 0}, {10, 3, 10}, probes, floorLine(), [](std::uint32_t, const SurfaceSample&) { return 1.0; },
+    const ProbeGrid grid({0, 0, 0}, {10, 3, 10}, ProbeSet(probes), floorLine(), [](std::uint32_t, const SurfaceSample&) { return 1.0; },
                          {8, 0.05f, 4096, 0, 0});
     EXPECT_LE(std::size_t(grid.dims().x) * grid.dims().y * grid.dims().z, 4096u) << "cells grow to fit the cap";
     EXPECT_EQ(grid.candidates({5, 1, 5}).size(), 8u);

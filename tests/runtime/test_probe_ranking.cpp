@@ -23,7 +23,7 @@ ProbeGrid roomGrid(const std::vector<glm::vec3>& probes) {
     for (int x = 0; x < 16; ++x)
         for (int z = 0; z < 16; ++z) points.push_back({{0.25f + 0.5f * float(x), 0.0f, 0.25f + 0.5f * float(z)}, {0, 1, 0}});
     auto positions = std::make_shared<std::vector<glm::vec3>>(probes);
-    return ProbeGrid({0, 0, 0}, {8, 2, 8}, probes, points,
+    return ProbeGrid({0, 0, 0}, {8, 2, 8}, ProbeSet(probes), points,
                      [positions](std::uint32_t p, const SurfaceSample& x) {
                          const float d = glm::length((*positions)[p] - x.position);
                          return 1.0 / (1.0 + double(d) * d);
@@ -69,30 +69,33 @@ constexpr std::size_t kSlots = 7;  // one less than the probes: the box of cells
 TEST(ProbeRanking, WithRoomForEveryProbeAllLiveOnesNearestFirstThenNothingOnceResident) {
     const std::vector<glm::vec3> probes = {{6, 1, 4}, {2, 1, 4}, {4.5f, 1, 4}, {4, 1, 7}, {1, 1, 1}};
     ProbeGrid grid = roomGrid(probes);
-    grid.removeProbe(3);
+    ProbeSet set(probes);
+    set.remove(ProbeId{3});
+    grid.removeProbe(set, ProbeId{3});
     ResidencyPlanner planner = pool(8, probes.size());
     ProbeRanking ranking;
-    const auto wanted = ranking.wanted(looking({4, 1, 4}, {1, 0, 0}), grid, planner);
+    const auto wanted = ranking.wanted(looking({4, 1, 4}, {1, 0, 0}), grid, set, planner);
     EXPECT_EQ(raw(wanted), (std::vector<std::uint32_t>{2, 0, 1, 4}));  // 0.5, 2, 2 (by id), 4.2 m; 3 removed
     planner.remove(ProbeId{3});
-    planner.beginFrame(wanted, true);
+    planner.beginFrame(wanted, set, true);
     while (const auto load = planner.next()) planner.loaded(*load);
     planner.endFrame();
-    EXPECT_TRUE(ranking.wanted(looking({4, 1, 4}, {1, 0, 0}), grid, planner).empty());
+    EXPECT_TRUE(ranking.wanted(looking({4, 1, 4}, {1, 0, 0}), grid, set, planner).empty());
 }
 
 TEST(ProbeRanking, WhatThePixelsAskedForComesFirstByHowManyAsked) {
     const std::vector<glm::vec3> probes = scene({7.5f, 1, 4}, {0.5f, 1, 4}, {4.3f, 1, 4});
     const ProbeGrid grid = roomGrid(probes);
+    const ProbeSet set(probes);
     ProbeRanking ranking;
     const CameraView view = looking({4.3f, 1, 4}, {1, 0, 0});
     // Without demand the probes beside the eye come first.
-    const auto byPlace = raw(ranking.wanted(view, grid, pool(kSlots, probes.size())));
+    const auto byPlace = raw(ranking.wanted(view, grid, set, pool(kSlots, probes.size())));
     ASSERT_GE(byPlace.size(), 2u);
     EXPECT_EQ(std::min(byPlace[0], byPlace[1]), 2u);
     EXPECT_EQ(std::max(byPlace[0], byPlace[1]), 3u);
     // The far corners 4 and 7 asked for by 2 and 9 pixels: first, 7 then 4, whatever the place says.
-    const auto wanted = raw(ranking.wanted(view, grid, pool(kSlots, probes.size(), {0, 0, 0, 0, 2, 0, 0, 9})));
+    const auto wanted = raw(ranking.wanted(view, grid, set, pool(kSlots, probes.size(), {0, 0, 0, 0, 2, 0, 0, 9})));
     ASSERT_GE(wanted.size(), 2u);
     EXPECT_EQ(wanted[0], 7u);
     EXPECT_EQ(wanted[1], 4u);
@@ -104,9 +107,10 @@ TEST(ProbeRanking, WhatTheCameraSeesBeforeWhatIsBehindIt) {
     const glm::vec3 eye(4.5f, 1, 4.5f);
     const std::vector<glm::vec3> probes = scene(eye + glm::vec3(3, 0, 0), eye - glm::vec3(3, 0, 0), eye);
     const ProbeGrid grid = roomGrid(probes);
+    const ProbeSet set(probes);
     ProbeRanking forward, backward;
-    const auto ahead = raw(forward.wanted(looking(eye, {1, 0, 0}), grid, pool(kSlots, probes.size())));
-    const auto behind = raw(backward.wanted(looking(eye, {-1, 0, 0}), grid, pool(kSlots, probes.size())));
+    const auto ahead = raw(forward.wanted(looking(eye, {1, 0, 0}), grid, set, pool(kSlots, probes.size())));
+    const auto behind = raw(backward.wanted(looking(eye, {-1, 0, 0}), grid, set, pool(kSlots, probes.size())));
     // The box of cells grew until it listed a probe per slot (the first box lists the two by the eye).
     EXPECT_GE(ahead.size(), kSlots);
     ASSERT_TRUE(rankOf(ahead, 0) >= 0 && rankOf(ahead, 1) >= 0 && rankOf(behind, 0) >= 0 && rankOf(behind, 1) >= 0);
@@ -119,10 +123,11 @@ TEST(ProbeRanking, WhereTheCameraIsHeadingBeforeWhereItComesFrom) {
     const auto lastFrame = [](float step) {
         const std::vector<glm::vec3> probes = scene({7, 1, 2}, {1, 1, 2}, {4, 1, 2});
         const ProbeGrid grid = roomGrid(probes);
+        const ProbeSet set(probes);
         ProbeRanking ranking;
         std::vector<std::uint32_t> wanted;
         for (int f = 0; f <= 10; ++f)  // ends at x = 4 either way
-            wanted = raw(ranking.wanted(looking({4.0f - step * float(10 - f), 1, 2}, {0, 0, 1}), grid,
+            wanted = raw(ranking.wanted(looking({4.0f - step * float(10 - f), 1, 2}, {0, 0, 1}), grid, set,
                                         pool(kSlots, probes.size())));
         return wanted;
     };

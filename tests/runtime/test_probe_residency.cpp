@@ -58,7 +58,7 @@ GridCase gridCase(std::size_t probes) {
 ProbeGrid buildGrid(const std::vector<glm::vec3>& probes, const GridCase& c) {
     // The quality looks probes up by id in `probes` as the grid knows them; copy so later adds see theirs.
     auto positions = std::make_shared<std::vector<glm::vec3>>(probes);
-    return ProbeGrid({0, 0, 0}, {8, 2, 8}, probes, c.points,
+    return ProbeGrid({0, 0, 0}, {8, 2, 8}, ProbeSet(probes), c.points,
                      [positions](std::uint32_t p, const SurfaceSample& x) { return pseudoQuality((*positions)[p], x); },
                      c.settings);
 }
@@ -66,26 +66,30 @@ ProbeGrid buildGrid(const std::vector<glm::vec3>& probes, const GridCase& c) {
 TEST(ProbeGridLive, AddingAProbeGivesTheTableOfAGridBuiltWithItAndTouchesOnlyNearbyCells) {
     const GridCase c = gridCase(40);
     auto positions = std::make_shared<std::vector<glm::vec3>>(c.probes.begin(), c.probes.end() - 1);
-    ProbeGrid live({0, 0, 0}, {8, 2, 8}, *positions, c.points,
+    ProbeSet set(*positions);
+    ProbeGrid live({0, 0, 0}, {8, 2, 8}, set, c.points,
                    [positions](std::uint32_t p, const SurfaceSample& x) { return pseudoQuality((*positions)[p], x); },
                    c.settings);
     positions->push_back(c.probes.back());
-    const std::vector<std::size_t> changed = live.addProbe(c.probes.back());
+    const ProbeId added = set.add(c.probes.back());
+    EXPECT_EQ(added, ProbeId{39});
+    const std::vector<std::size_t> changed = live.addProbe(set, added);
     const ProbeGrid scratch = buildGrid(c.probes, c);
     EXPECT_EQ(live.table(), scratch.table());
     EXPECT_GT(changed.size(), 0u);
     EXPECT_LT(changed.size(), live.cellCount()) << "40 probes, 6 competitors per cell: a probe reaches few cells";
-    EXPECT_EQ(live.liveProbes(), 40u);
+    EXPECT_EQ(set.liveCount(), 40u);
 }
 
 TEST(ProbeGridLive, RemovingAProbeGivesTheTableOfAGridBuiltWithoutIt) {
     const GridCase c = gridCase(40);
+    ProbeSet set(c.probes);
     ProbeGrid live = buildGrid(c.probes, c);
     const std::uint32_t removed = 17;
     ASSERT_TRUE(std::find(live.table().begin(), live.table().end(), removed) != live.table().end())
         << "the test needs a probe some cell lists";
-    const std::vector<std::size_t> changed = live.removeProbe(removed);
-    EXPECT_FALSE(live.isLive(removed));
+    set.remove(ProbeId{removed});
+    const std::vector<std::size_t> changed = live.removeProbe(set, ProbeId{removed});
     EXPECT_LT(changed.size(), live.cellCount());
     std::vector<glm::vec3> rest = c.probes;
     rest.erase(rest.begin() + removed);
@@ -95,7 +99,7 @@ TEST(ProbeGridLive, RemovingAProbeGivesTheTableOfAGridBuiltWithoutIt) {
     for (std::uint32_t& id : expected)
         if (id != kernel::kNoProbe && id >= removed) ++id;
     EXPECT_EQ(live.table(), expected);
-    EXPECT_THROW(live.removeProbe(removed), Error);
+    EXPECT_THROW(set.remove(ProbeId{removed}), Error) << "a removed probe stays removed";
 }
 
 // ---- GPU -----------------------------------------------------------------------------------------

@@ -30,11 +30,17 @@ std::vector<ProbeId> ids(const std::vector<std::uint32_t>& raw) {
     return out;
 }
 
-// Plans and applies one frame (every load's bytes readable); returns its loads in order.
-std::vector<Load> runFrame(ResidencyPlanner& planner, const std::vector<std::uint32_t>& wanted, bool unbounded = false) {
+// Every probe the planner knows, live (where they are plays no part in planning).
+cubeao::ProbeSet allLive(std::size_t probes) { return cubeao::ProbeSet(std::vector<glm::vec3>(probes)); }
+
+// Plans and applies one frame (every load's bytes readable) over `set` (all live without one);
+// returns its loads in order.
+std::vector<Load> runFrame(ResidencyPlanner& planner, const std::vector<std::uint32_t>& wanted, bool unbounded = false,
+                           const cubeao::ProbeSet* set = nullptr) {
     std::vector<Load> loads;
     const std::vector<ProbeId> typed = ids(wanted);
-    planner.beginFrame(typed, unbounded);
+    const cubeao::ProbeSet everyone = allLive(planner.probes());
+    planner.beginFrame(typed, set ? *set : everyone, unbounded);
     while (const std::optional<Load> load = planner.next()) {
         planner.loaded(*load);
         loads.push_back(*load);
@@ -110,7 +116,8 @@ TEST(ResidencyPlanner, EachFrameLoadsAtMostTheUploadBoundAndReadsAheadWhatComesN
     for (std::uint32_t i = 0; i < 12; ++i) wanted.push_back(11 - i);
     EXPECT_EQ(probesOf(runFrame(planner, wanted)), (std::vector<std::uint32_t>{11, 10}));
     const std::vector<ProbeId> typed = ids(wanted);
-    planner.beginFrame(typed, false);
+    const cubeao::ProbeSet set = allLive(20);
+    planner.beginFrame(typed, set, false);
     std::vector<std::uint32_t> loaded;
     while (const auto load = planner.next()) planner.loaded(*load), loaded.push_back(index(load->probe));
     EXPECT_EQ(loaded, (std::vector<std::uint32_t>{9, 8}));
@@ -186,7 +193,8 @@ TEST(ResidencyPlanner, AProbeWhoseBytesFailIsPassedOverAndTheNextTakesItsSlot) {
     ResidencyPlanner planner(2, kProbe, 10 * kProbe);
     planner.resizeProbes(3);
     const std::vector<ProbeId> wanted = ids({0, 1});
-    planner.beginFrame(wanted, false);
+    const cubeao::ProbeSet set = allLive(3);
+    planner.beginFrame(wanted, set, false);
     const auto first = planner.next();
     ASSERT_TRUE(first);
     planner.skipped(*first);
@@ -202,10 +210,12 @@ TEST(ResidencyPlanner, AProbeWhoseBytesFailIsPassedOverAndTheNextTakesItsSlot) {
 
 TEST(ResidencyPlanner, ARemovedProbeFreesItsSlotAndIsNeverLoaded) {
     ResidencyPlanner planner = fullPool(2, 4);
+    cubeao::ProbeSet set = allLive(4);
+    set.remove(ProbeId{1});
     EXPECT_EQ(planner.remove(ProbeId{1}), SlotId{1});
     EXPECT_EQ(planner.remove(ProbeId{1}), SlotId::None);  // already gone
     EXPECT_EQ(planner.resident(), 1u);
-    const auto loads = runFrame(planner, {1, 2});
+    const auto loads = runFrame(planner, {1, 2}, false, &set);  // wanted, but not live in the set
     ASSERT_EQ(loads.size(), 1u);
     EXPECT_EQ(loads[0].probe, ProbeId{2});
     EXPECT_EQ(loads[0].slot, SlotId{1});

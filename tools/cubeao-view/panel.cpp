@@ -65,7 +65,7 @@ void probesSection(const PanelFigures& f) {
     if (!f.probes) return;
     section("probes");
     const ResidencyStats& r = f.probes->residency().stats();
-    ImGui::Text("%zu resident of %zu · %zu slots · %.1f MB", r.resident, f.probes->grid().liveProbes(), r.slots,
+    ImGui::Text("%zu resident of %zu · %zu slots · %.1f MB", r.resident, f.probes->source().probes().liveCount(), r.slots,
                 double(f.probes->gpuBytes()) / 1048576.0);
     ImGui::Text("uploads %zu this frame (%.1f KB, %.2f ms)", r.frameUploads, double(r.frameUploadBytes) / 1024.0,
                 r.frameUploadMs);

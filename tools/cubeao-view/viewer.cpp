@@ -720,7 +720,7 @@ nlohmann::json Viewer::summary() const {
                         {"frame_ms_mean", frameMsMean_},
                         {"mode", viewModeName(s_.mode)}};
     if (ProbeProjectionPass* pass = probes()) {
-        j["probes"] = pass->grid().liveProbes();
+        j["probes"] = pass->source().probes().liveCount();
         j["resident"] = pass->residency().stats().resident;
         j["damaged"] = damagedProbes();
         j["gpu_bytes"] = pass->gpuBytes();

@@ -6,13 +6,11 @@
 #include <limits>
 #include <numeric>
 #include <random>
-#include <string>
 
 #include <glm/geometric.hpp>
 
 #include "common/projection.h"
 #include "common/runtime_layout.h"
-#include "cubeao/core/error.h"
 
 namespace cubeao {
 namespace {
@@ -64,10 +62,9 @@ void chooseCandidates(std::span<const std::uint32_t> nearest, std::vector<double
 
 }  // namespace
 
-ProbeGrid::ProbeGrid(const glm::vec3& boundsMin, const glm::vec3& boundsMax, std::span<const glm::vec3> probes,
+ProbeGrid::ProbeGrid(const glm::vec3& boundsMin, const glm::vec3& boundsMax, const ProbeSet& probes,
                      std::span<const SurfaceSample> points, QualityFn quality, ProbeGridSettings s)
-    : quality_(std::move(quality)), probes_(probes.begin(), probes.end()), alive_(probes.size(), true),
-      live_(probes.size()) {
+    : quality_(std::move(quality)) {
     k_ = s.candidates > 0 ? s.candidates : 8;
     const int maxCells = s.maxCells > 0 ? s.maxCells : 1 << 20;
     considered_ = std::size_t(s.considered > 0 ? s.considered : std::max(8 * k_, 64));
@@ -94,22 +91,22 @@ ProbeGrid::ProbeGrid(const glm::vec3& boundsMin, const glm::vec3& boundsMax, std
         std::vector<SurfaceSample>& list = cellPoints_[cellOf(points[i].position)];
         if (list.size() < perCell) list.push_back(points[i]);
     }
-    for (std::size_t c = 0; c < cells; ++c) choose(c);
+    for (std::size_t c = 0; c < cells; ++c) choose(probes, c);
 }
 
 glm::vec3 ProbeGrid::cellCentre(std::size_t c) const {
     return kernel::candidateCellCentre(kernel::candidateCellCoordinates(std::uint32_t(c), dims_), origin_, cell_);
 }
 
-void ProbeGrid::choose(std::size_t cell) {
+void ProbeGrid::choose(const ProbeSet& probes, std::size_t cell) {
     std::uint32_t* out = table_.data() + cell * std::size_t(k_);
     std::fill(out, out + k_, kNone);
     const glm::vec3 centre = cellCentre(cell);
     order_.clear();
-    distance2_.resize(probes_.size());
-    for (std::uint32_t p = 0; p < probes_.size(); ++p) {
-        if (!alive_[p]) continue;
-        const glm::vec3 d = probes_[p] - centre;
+    distance2_.resize(probes.size());
+    for (std::uint32_t p = 0; p < probes.size(); ++p) {
+        if (!probes.isLive(ProbeId{p})) continue;
+        const glm::vec3 d = probes.position(ProbeId{p}) - centre;
         distance2_[p] = glm::dot(d, d);
         order_.push_back(p);
     }
@@ -130,29 +127,23 @@ void ProbeGrid::choose(std::size_t cell) {
     chooseCandidates(nearest, quality2_, mine.size(), k_, out);
 }
 
-std::vector<std::size_t> ProbeGrid::rechooseAround(const glm::vec3& position) {
+std::vector<std::size_t> ProbeGrid::rechooseAround(const ProbeSet& probes, const glm::vec3& position) {
     std::vector<std::size_t> changed;
     for (std::size_t c = 0; c < reach2_.size(); ++c) {
         const glm::vec3 d = position - cellCentre(c);
         // ≤, not <: at equal distance the id decides, and re-choosing is always safe.
         if (glm::dot(d, d) <= reach2_[c]) changed.push_back(c);
     }
-    for (std::size_t c : changed) choose(c);
+    for (std::size_t c : changed) choose(probes, c);
     return changed;
 }
 
-std::vector<std::size_t> ProbeGrid::addProbe(const glm::vec3& position) {
-    probes_.push_back(position);
-    alive_.push_back(true);
-    ++live_;
-    return rechooseAround(position);
+std::vector<std::size_t> ProbeGrid::addProbe(const ProbeSet& probes, ProbeId id) {
+    return rechooseAround(probes, probes.position(id));
 }
 
-std::vector<std::size_t> ProbeGrid::removeProbe(std::uint32_t id) {
-    if (!isLive(id)) throw Error("ProbeGrid::removeProbe: no live probe " + std::to_string(id));
-    alive_[id] = false;
-    --live_;
-    return rechooseAround(probes_[id]);
+std::vector<std::size_t> ProbeGrid::removeProbe(const ProbeSet& probes, ProbeId id) {
+    return rechooseAround(probes, probes.position(id));
 }
 
 std::size_t ProbeGrid::cellOf(const glm::vec3& x) const {

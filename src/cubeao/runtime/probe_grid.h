@@ -26,6 +26,8 @@
 #include <glm/vec3.hpp>
 
 #include "cubeao/core/surface_samples.h"
+#include "cubeao/runtime/probe_id.h"
+#include "cubeao/runtime/probe_set.h"
 
 namespace cubeao {
 
@@ -40,7 +42,8 @@ struct ProbeGridSettings {
 // The probe set is live (DESIGN.md §4 "Run time that grows"): probes can be added and removed after
 // construction, and only the cells whose competition a probe joins or leaves are chosen again, with
 // the same rule, so the table always equals the one a grid built from scratch over the same probes
-// (same ids, same order) would hold. A cell's competition is its `considered` nearest live probes; a
+// (same ids, same order) would hold. The grid keeps no probes of its own: each call that chooses
+// reads the ProbeSet it is given (probe_set.h), the one record of ids, positions and liveness. A cell's competition is its `considered` nearest live probes; a
 // probe changes it only if it lies within the farthest of them (all cells when there are no more live
 // probes than `considered`).
 class ProbeGrid {
@@ -49,20 +52,14 @@ public:
     // again when probes are added or removed.
     using QualityFn = std::function<double(std::uint32_t probe, const SurfaceSample& point)>;
 
-    // Probe ids are the indices of `probes`.
-    ProbeGrid(const glm::vec3& boundsMin, const glm::vec3& boundsMax, std::span<const glm::vec3> probes,
+    // Over the live probes of `probes`.
+    ProbeGrid(const glm::vec3& boundsMin, const glm::vec3& boundsMax, const ProbeSet& probes,
               std::span<const SurfaceSample> points, QualityFn quality, ProbeGridSettings settings);
 
-    // Adds a probe with the next id (probeCount() before the call) and returns the cells chosen again
-    // (ascending).
-    std::vector<std::size_t> addProbe(const glm::vec3& position);
-    // Takes probe `id` out of every cell (its id is not reused) and returns the cells chosen again.
-    // Error for an unknown or already removed id.
-    std::vector<std::size_t> removeProbe(std::uint32_t id);
-    std::size_t probeCount() const { return probes_.size(); }  // ids issued, removed ones included
-    std::size_t liveProbes() const { return live_; }
-    bool isLive(std::uint32_t id) const { return id < alive_.size() && alive_[id]; }
-    const glm::vec3& probePosition(std::uint32_t id) const { return probes_[id]; }
+    // After `probes` added (or removed) probe `id`: the cells whose competition it joins (or leaves),
+    // chosen again from `probes`, ascending.
+    std::vector<std::size_t> addProbe(const ProbeSet& probes, ProbeId id);
+    std::vector<std::size_t> removeProbe(const ProbeSet& probes, ProbeId id);
 
     // Candidates of the cell containing x (clamped to the grid): up to K probe indices, best first.
     std::span<const std::uint32_t> candidates(const glm::vec3& x) const;
@@ -84,9 +81,9 @@ public:
 
 private:
     std::size_t cellOf(const glm::vec3& x) const;
-    void choose(std::size_t cell);  // the cell's K from its `considered` nearest live probes
+    void choose(const ProbeSet& probes, std::size_t cell);  // the cell's K from its `considered` nearest live probes
     // Cells whose competition includes a probe at `position`, chosen again.
-    std::vector<std::size_t> rechooseAround(const glm::vec3& position);
+    std::vector<std::size_t> rechooseAround(const ProbeSet& probes, const glm::vec3& position);
 
     glm::vec3 origin_{0.0f};
     glm::ivec3 dims_{1};
@@ -95,9 +92,6 @@ private:
     std::size_t considered_ = 0;  // competitors per cell (the setting; fewer while fewer probes live)
     std::vector<std::uint32_t> table_;
     QualityFn quality_;
-    std::vector<glm::vec3> probes_;
-    std::vector<bool> alive_;
-    std::size_t live_ = 0;
     std::vector<std::vector<SurfaceSample>> cellPoints_;  // each cell's points, at most pointsPerCell
     std::vector<float> reach2_;  // per cell: squared distance of its farthest competitor (inf: all compete)
     // Scratch of choose().

@@ -98,13 +98,11 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     if (gridSettings.cellSize == 0.0f) gridSettings.cellSize = params.radius;
     glm::vec3 boundsMin(std::numeric_limits<float>::max()), boundsMax(-std::numeric_limits<float>::max());
     for (const glm::vec3& v : meshPositions) boundsMin = glm::min(boundsMin, v), boundsMax = glm::max(boundsMax, v);
-    std::vector<glm::vec3> probePositions(source_.size());
-    for (std::uint32_t i = 0; i < probePositions.size(); ++i) probePositions[i] = source_.position(ProbeId{i});
     {
         // About 64 points per cell face's area on each side, at most 4M samples.
         const std::size_t count = surfacePointsFor(meshPositions, meshIndices, gridSettings.cellSize / 8.0f, 1u << 22);
         const std::vector<SurfaceSample> points = sampleSurface(meshPositions, meshIndices, count, 0u);
-        grid_ = std::make_unique<ProbeGrid>(boundsMin, boundsMax, probePositions, points, quality, gridSettings);
+        grid_ = std::make_unique<ProbeGrid>(boundsMin, boundsMax, source_.probes(), points, quality, gridSettings);
     }
     touched->releaseAll();
     candidates_ = grid_->k();
@@ -226,10 +224,8 @@ std::vector<std::uint32_t> ProbeProjectionPass::readResidentCandidateCounts() co
 }
 
 ProbeId ProbeProjectionPass::addProbe(ProbeRecord probe) {
-    const glm::vec3 position = probe.position;
     const ProbeId id = source_.add(std::move(probe));
-    const std::vector<std::size_t> changed = grid_->addProbe(position);
-    if (grid_->probeCount() != source_.size()) throw Error("ProbeProjectionPass: probe ids out of step");
+    const std::vector<std::size_t> changed = grid_->addProbe(source_.probes(), id);
     residency_->syncProbes(source_);
     uploadCells(cells_.id(), grid_->table(), std::size_t(candidates_), changed);
     cellsChanged_ = true;
@@ -238,14 +234,14 @@ ProbeId ProbeProjectionPass::addProbe(ProbeRecord probe) {
 
 void ProbeProjectionPass::removeProbe(ProbeId id) {
     source_.remove(id);
-    const std::vector<std::size_t> changed = grid_->removeProbe(index(id));
+    const std::vector<std::size_t> changed = grid_->removeProbe(source_.probes(), id);
     residency_->syncProbes(source_);
     uploadCells(cells_.id(), grid_->table(), std::size_t(candidates_), changed);
     cellsChanged_ = true;
 }
 
 void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& view, std::uint32_t frame, GLuint aoImage) {
-    residency_->update(source_, ranking_.wanted(view, *grid_, residency_->planner()), unbounded_);
+    residency_->update(source_, ranking_.wanted(view, *grid_, source_.probes(), residency_->planner()), unbounded_);
     unbounded_ = false;
     // A damaged probe is left out, as if it had been removed: the walk goes on without it.
     for (const ProbeResidency::Damaged& d : residency_->takeDamaged()) {

@@ -12,15 +12,15 @@
 
 namespace cubeao {
 
-std::vector<ProbeId> ProbeRanking::wanted(const CameraView& view, const ProbeGrid& grid,
+std::vector<ProbeId> ProbeRanking::wanted(const CameraView& view, const ProbeGrid& grid, const ProbeSet& probes,
                                           const ResidencyPlanner& residency) {
     const glm::mat4 worldFromView = view.worldFromView();
     const glm::vec3 eye(worldFromView[3]);
     if (haveEye_) motion_ = 0.5f * motion_ + 0.5f * (eye - lastEye_);
     lastEye_ = eye, haveEye_ = true;
     const glm::vec3 ahead = eye + motion_ * lookahead_;
-    if (residency.resident() == grid.liveProbes()) return {};  // nothing left to load
-    const std::size_t n = grid.probeCount();
+    if (residency.resident() == probes.liveCount()) return {};  // nothing left to load
+    const std::size_t n = probes.size();
     const float inf = std::numeric_limits<float>::infinity();
     score_.assign(n, inf);
     std::vector<ProbeId> listed;
@@ -28,10 +28,10 @@ std::vector<ProbeId> ProbeRanking::wanted(const CameraView& view, const ProbeGri
         if (score_[id] == inf) listed.push_back(ProbeId{id});
         score_[id] = std::min(score_[id], s);
     };
-    const bool roomForAll = residency.slots() >= grid.liveProbes();
+    const bool roomForAll = residency.slots() >= probes.liveCount();
     if (roomForAll) {
         for (std::uint32_t id = 0; id < n; ++id)
-            if (grid.isLive(id)) list(id, glm::length(grid.probePosition(id) - eye));
+            if (probes.isLive(ProbeId{id})) list(id, glm::length(probes.position(ProbeId{id}) - eye));
     } else {
         const glm::ivec3 dims = grid.dims();
         const float cell = grid.cellSize();

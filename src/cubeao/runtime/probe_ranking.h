@@ -27,9 +27,11 @@ class ProbeRanking {
 public:
     explicit ProbeRanking(float lookaheadFrames = 8.0f) : lookahead_(lookaheadFrames) {}
 
-    // This frame's wanted probes (live ones of `grid`, plus those the pixels asked for), best first.
+    // This frame's wanted probes (live ones of `probes`, by `grid`'s cells, plus those the pixels asked
+    // for), best first.
     // Each call is a frame: the eye's motion is smoothed over the calls.
-    std::vector<ProbeId> wanted(const CameraView& view, const ProbeGrid& grid, const ResidencyPlanner& residency);
+    std::vector<ProbeId> wanted(const CameraView& view, const ProbeGrid& grid, const ProbeSet& probes,
+                                const ResidencyPlanner& residency);
 
 private:
     float lookahead_;

@@ -52,8 +52,10 @@ ProbeSource::ProbeSource(const CacheReader* cache, const CacheParams& params) : 
     if (!cache) return;
     cache->adviseRandomAccess();  // probes are read by priority, each section asked for (prefetch)
     probes_.resize(cache->probeCount());
-    for (std::size_t i = 0; i < probes_.size(); ++i)
-        probes_[i].position = cache->position(i), probes_[i].maxDistance = cache->maxDistance(i);
+    for (std::size_t i = 0; i < probes_.size(); ++i) {
+        set_.add(cache->position(i));
+        probes_[i].maxDistance = cache->maxDistance(i);
+    }
 }
 
 float ProbeSource::distanceScale(ProbeId id) const {
@@ -66,16 +68,15 @@ ProbeId ProbeSource::add(ProbeRecord record) {
                     " AO and " + std::to_string(record.depth.size()) + " distance bytes; this probe set needs " +
                     std::to_string(aoSectionSize(params_)) + " and " + std::to_string(depthSectionSize(params_)));
     Probe p;
-    p.position = record.position;
     p.maxDistance = record.maxDistance;
+    const ProbeId id = set_.add(record.position);
     p.added = std::make_unique<ProbeRecord>(std::move(record));
     probes_.push_back(std::move(p));
-    return ProbeId{std::uint32_t(probes_.size() - 1)};
+    return id;
 }
 
 void ProbeSource::remove(ProbeId id) {
-    if (!isLive(id)) throw Error("no live probe with id " + std::to_string(index(id)));
-    probes_[index(id)].live = false;
+    set_.remove(id);  // Error for an unknown or removed id
     probes_[index(id)].added.reset();
 }
 
@@ -287,7 +288,7 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const ProbeId> 
     GLint unpackAlignment = 4;
     glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // distance rows are 2 · depthRes bytes: odd depthRes is not 4-aligned
-    planner_.beginFrame(wanted, unbounded);
+    planner_.beginFrame(wanted, source.probes(), unbounded);
     while (const std::optional<ResidencyPlanner::Load> load = planner_.next()) {
         // The probe's bytes are read (a cache probe's checksum checked on first use) before its slot
         // is freed.

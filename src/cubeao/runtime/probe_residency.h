@@ -26,20 +26,22 @@
 
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/gl/handles.h"
+#include "cubeao/runtime/probe_set.h"
 #include "cubeao/runtime/residency_planner.h"
 
 namespace cubeao {
 
-// Probes by id: the cache's probes first (id = cache order), then those added at run time. Removed
-// probes keep their id.
+// Probes by id and their bytes: the cache's probes first (id = cache order), then those added at run
+// time. Removed probes keep their id. Which are live, and where each is, is the ProbeSet it holds.
 class ProbeSource {
 public:
     ProbeSource(const CacheReader* cache, const CacheParams& params);  // cache may be null: start empty
 
     const CacheParams& params() const { return params_; }
-    std::size_t size() const { return probes_.size(); }
-    bool isLive(ProbeId id) const { return index(id) < probes_.size() && probes_[index(id)].live; }
-    glm::vec3 position(ProbeId id) const { return probes_[index(id)].position; }
+    const ProbeSet& probes() const { return set_; }
+    std::size_t size() const { return set_.size(); }
+    bool isLive(ProbeId id) const { return set_.isLive(id); }
+    glm::vec3 position(ProbeId id) const { return set_.position(id); }
     // Multiplies a stored distance texel into world units on the GPU (r16unorm: maxDistance; floats: 1).
     float distanceScale(ProbeId id) const;
 
@@ -60,14 +62,13 @@ public:
 
 private:
     struct Probe {
-        glm::vec3 position{0.0f};
         float maxDistance = 0.0f;
-        bool live = true;
         std::unique_ptr<ProbeRecord> added;  // null: cache probe `id`
     };
     const CacheReader* cache_ = nullptr;
     CacheParams params_;
-    std::vector<Probe> probes_;
+    ProbeSet set_;
+    std::vector<Probe> probes_;  // by id, beside set_
 };
 
 struct ResidencySettings {

@@ -70,7 +70,6 @@ void ResidencyPlanner::growSlots(std::size_t slots) {
 
 void ResidencyPlanner::resizeProbes(std::size_t probes) {
     slot_.resize(probes, SlotId::None);
-    live_.resize(probes, 1);
     lastUsed_.resize(probes, -1);
     demand_.resize(probes, 0u);
     loadedAt_.resize(probes, -1);
@@ -79,7 +78,6 @@ void ResidencyPlanner::resizeProbes(std::size_t probes) {
 SlotId ResidencyPlanner::remove(ProbeId id) {
     const std::uint32_t i = index(id);
     if (i >= slot_.size()) return SlotId::None;
-    live_[i] = 0;
     const SlotId slot = slot_[i];
     if (slot != SlotId::None) {
         owner_[index(slot)] = ProbeId::None;
@@ -99,7 +97,8 @@ void ResidencyPlanner::feedback(std::span<const std::uint32_t> counts, std::int6
     }
 }
 
-void ResidencyPlanner::beginFrame(std::span<const ProbeId> wanted, bool unbounded) {
+void ResidencyPlanner::beginFrame(std::span<const ProbeId> wanted, const ProbeSet& probes, bool unbounded) {
+    probes_ = &probes;
     if (wanted.size() > slots()) wanted = wanted.first(slots());
     wanted_.assign(wanted.begin(), wanted.end());
     victims_.clear();
@@ -114,7 +113,7 @@ std::optional<ResidencyPlanner::Load> ResidencyPlanner::next() {
     for (; cursor_ < wanted_.size(); ++cursor_) {
         const ProbeId id = wanted_[cursor_];
         const std::uint32_t i = index(id);
-        if (i >= slot_.size() || !live_[i] || slot_[i] != SlotId::None) continue;
+        if (i >= slot_.size() || !probes_->isLive(id) || slot_[i] != SlotId::None) continue;
         if (!unbounded_ && (frameLoads_ + 1) * probeBytes_ > uploadBound_) {
             // The next ones, so that their bytes are in memory when their frame comes.
             const std::size_t end = std::min(wanted_.size(), cursor_ + 2 * uploadBound_ / probeBytes_);

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cubeao/runtime/probe_id.h"
+#include "cubeao/runtime/probe_set.h"
 
 namespace cubeao {
 
@@ -79,9 +80,10 @@ public:
 
     // More slots, numbered after the existing ones (a pool that grows without a budget).
     void growSlots(std::size_t slots);
-    // Probe ids 0 … probes − 1 known (new ones are live, not resident).
+    // Probe ids 0 … probes − 1 known (new ones not resident).
     void resizeProbes(std::size_t probes);
-    // Probe `id` is gone: its slot, if it held one, is free. Returns that slot (SlotId::None: it held none).
+    // Probe `id` left the set: its slot, if it held one, is free. Returns that slot (SlotId::None: it
+    // held none).
     SlotId remove(ProbeId id);
 
     SlotId slotOf(ProbeId id) const { return index(id) < slot_.size() ? slot_[index(id)] : SlotId::None; }
@@ -95,9 +97,10 @@ public:
     // The pixels' counts per probe id of frame `frame` (read back, oldest first).
     void feedback(std::span<const std::uint32_t> counts, std::int64_t frame);
 
-    // This frame's wanted probes, best first (at most slots() are considered); `unbounded` lifts the
-    // upload bound (a viewer's start, a cut).
-    void beginFrame(std::span<const ProbeId> wanted, bool unbounded);
+    // This frame's wanted probes, best first (at most slots() are considered); of them only those live
+    // in `probes` (read until the frame's last next(): keep it alive so long) are loaded. `unbounded`
+    // lifts the upload bound (a viewer's start, a cut).
+    void beginFrame(std::span<const ProbeId> wanted, const ProbeSet& probes, bool unbounded);
     struct Load {
         ProbeId probe = ProbeId::None;
         SlotId slot = SlotId::None;
@@ -117,7 +120,6 @@ private:
 
     std::size_t probeBytes_, uploadBound_;
     std::vector<SlotId> slot_;             // per probe id
-    std::vector<std::uint8_t> live_;       // per probe id
     std::vector<std::int64_t> lastUsed_;   // per probe id
     std::vector<std::uint32_t> demand_;    // per probe id, of frame demandFrame_
     std::vector<std::int64_t> loadedAt_;   // per probe id: frame of its last load
@@ -126,6 +128,7 @@ private:
     std::size_t resident_ = 0, loads_ = 0, evictions_ = 0;
     // The frame being planned.
     std::vector<ProbeId> wanted_, victims_, readAhead_;
+    const ProbeSet* probes_ = nullptr;
     bool unbounded_ = false, victimsMade_ = false;
     std::size_t cursor_ = 0, nextFree_ = 0, frameLoads_ = 0;
 };

@@ -1,0 +1,53 @@
+// The probes of a run by id: where each is and whether it is still part of the run. Ids come in the
+// order the probes came (a cache's in cache order, then those added while walking); a removed probe
+// keeps its id and is never live again. The one record of liveness: the source of the probes' bytes
+// (probe_residency.h ProbeSource) holds it, and the candidate grid, the ranking and the atlas read it.
+// Pure (no GL).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "cubeao/core/error.h"
+#include "cubeao/runtime/probe_id.h"
+
+namespace cubeao {
+
+class ProbeSet {
+public:
+    ProbeSet() = default;
+    // Probes 0 … n − 1 at `positions`, all live.
+    explicit ProbeSet(std::span<const glm::vec3> positions)
+        : positions_(positions.begin(), positions.end()), live_(positions.size(), 1), liveCount_(positions.size()) {}
+
+    // A live probe with the next id, size() before the call.
+    ProbeId add(const glm::vec3& position) {
+        positions_.push_back(position);
+        live_.push_back(1);
+        ++liveCount_;
+        return ProbeId{std::uint32_t(positions_.size() - 1)};
+    }
+    // Error for an unknown or already removed id.
+    void remove(ProbeId id) {
+        if (!isLive(id)) throw Error("no live probe with id " + std::to_string(index(id)));
+        live_[index(id)] = 0;
+        --liveCount_;
+    }
+
+    std::size_t size() const { return positions_.size(); }  // ids issued, removed ones included
+    std::size_t liveCount() const { return liveCount_; }
+    bool isLive(ProbeId id) const { return index(id) < live_.size() && live_[index(id)] != 0; }
+    const glm::vec3& position(ProbeId id) const { return positions_[index(id)]; }
+
+private:
+    std::vector<glm::vec3> positions_;
+    std::vector<std::uint8_t> live_;
+    std::size_t liveCount_ = 0;
+};
+
+}  // namespace cubeao
