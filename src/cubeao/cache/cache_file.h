@@ -166,7 +166,7 @@ public:
     // probe before anything uses its bytes for pixels.
     std::span<const std::uint8_t> unverifiedDepth(std::size_t i) const;
 
-    // Page hints for a reader that streams probes (runtime/probe_residency.h). prefetch: ask the
+    // Page hints for a reader that streams probes (runtime/probe_source.h). prefetch: ask the
     // kernel to start reading probe i's payload now (MADV_WILLNEED), so a later probe(i) does not wait
     // for the disk. releaseAll: drop every page of the mapping from this process's resident set
     // (MADV_DONTNEED; the mapping is private and read-only, so the next access faults them back in

@@ -121,7 +121,7 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     glNamedBufferStorage(counters_.id(), kernel::kPassCounterBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
     sharesRing_ = gl::ReadbackRing<kernel::PassCounters, double>(kSharesRing, kernel::kCounterStripes);
     // An empty start without a budget: a pool for the probes expected, grown as they come.
-    residency_ = std::make_unique<ProbeResidency>(source_, ownGpuBytes(), settings.residency, cache ? 0 : expectedProbes);
+    residency_ = std::make_unique<ProbeAtlas>(source_, ownGpuBytes(), settings.residency, cache ? 0 : expectedProbes);
 
     program_ = gl::compileComputeProgram("runtime/project.comp");
     uploadProjectBlock();
@@ -244,7 +244,7 @@ void ProbeProjectionPass::run(const CameraGBuffer& gbuffer, const CameraView& vi
     residency_->update(source_, ranking_.wanted(view, *grid_, source_.probes(), residency_->planner()), unbounded_);
     unbounded_ = false;
     // A damaged probe is left out, as if it had been removed: the walk goes on without it.
-    for (const ProbeResidency::Damaged& d : residency_->takeDamaged()) {
+    for (const ProbeAtlas::Damaged& d : residency_->takeDamaged()) {
         spdlog::warn("{}; left out: its pixels take the other probes", d.what);
         removeProbe(d.id);
     }

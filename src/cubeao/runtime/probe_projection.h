@@ -1,6 +1,6 @@
 // The probe cache as a run-time AO method (`render --method probes`, DESIGN.md §4 "Run time that
 // grows"): the probes' texels stream into a pool of atlas slots under a GPU memory budget
-// (probe_residency.h), a world grid lists K candidate probes per cell (probe_grid.h), and the
+// (probe_atlas.h), a world grid lists K candidate probes per cell (probe_grid.h), and the
 // projection pass (shaders/runtime/project.comp; per-point math and CPU twin in projection.h) shades
 // every pixel from the resident candidates of its cell, or, when none of them sees it, from the
 // resident probes nearest it (nearest_lists.h). Probes can be added and removed while it runs; a
@@ -25,7 +25,7 @@
 #include "cubeao/runtime/nearest_lists.h"
 #include "cubeao/runtime/probe_grid.h"
 #include "cubeao/runtime/probe_ranking.h"
-#include "cubeao/runtime/probe_residency.h"
+#include "cubeao/runtime/probe_atlas.h"
 #include "cubeao/runtime/projection.h"
 
 namespace cubeao {
@@ -106,7 +106,7 @@ public:
 
     const ProbeGrid& grid() const { return *grid_; }
     const ProbeSource& source() const { return source_; }
-    const ProbeResidency& residency() const { return *residency_; }
+    const ProbeAtlas& residency() const { return *residency_; }
     const ProbeAtlasLayout& atlas() const { return residency_->atlas(); }
     // GPU memory the pass holds: the residency's (atlases, staging, table, feedback), the candidate
     // grid and the counters.
@@ -130,7 +130,7 @@ private:
     ProbeProjectionSettings settings_;
     int res_ = 0, depthRes_ = 0, candidates_ = 0;
     std::unique_ptr<ProbeGrid> grid_;
-    std::unique_ptr<ProbeResidency> residency_;
+    std::unique_ptr<ProbeAtlas> residency_;
     std::unique_ptr<NearestProbeLists> nearest_;
     std::uint64_t nearestVersion_ = ~std::uint64_t(0);  // the residency's residentVersion() they were built for
     std::unique_ptr<AoFallback> fallback_;

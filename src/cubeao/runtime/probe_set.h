@@ -1,7 +1,7 @@
 // The probes of a run by id: where each is and whether it is still part of the run. Ids come in the
 // order the probes came (a cache's in cache order, then those added while walking); a removed probe
 // keeps its id and is never live again. The one record of liveness: the source of the probes' bytes
-// (probe_residency.h ProbeSource) holds it, and the candidate grid, the ranking and the atlas read it.
+// (probe_source.h ProbeSource) holds it, and the candidate grid, the ranking and the atlas read it.
 // Pure (no GL).
 #pragma once
 

@@ -54,7 +54,7 @@ double visibleFootprint(const DecodedProbe& probe, const glm::vec3& x, const glm
                         const ProjectSettings& settings);
 // The same for a probe at `probe` (faces res², distance cube depthRes²) whose distance texel in the
 // direction of x is `stored` (cube::texelIndex(x − probe, depthRes)), for readers that hold the
-// distance cube in another form (the run-time's stored bytes, probe_residency.h).
+// distance cube in another form (the run-time's stored bytes, probe_source.h).
 double visibleFootprint(const glm::vec3& probe, float stored, int res, int depthRes, const glm::vec3& x,
                         const glm::vec3& n, const ProjectSettings& settings);
 

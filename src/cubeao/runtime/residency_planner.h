@@ -1,6 +1,6 @@
 // The residency's decisions without GL (DESIGN.md §4 "Run time that grows"): how many probe slots a
 // GPU budget holds, which wanted probe goes into which slot this frame, whom it evicts, and when the
-// per-frame upload bound or the eviction hysteresis says "not this frame". ProbeResidency (GL) reads
+// per-frame upload bound or the eviction hysteresis says "not this frame". ProbeAtlas (GL) reads
 // the pixels' feedback, asks this planner, uploads what it says and writes the probe table; the
 // rules live here so that they are tested on the CPU (tests/runtime/test_residency_planner.cpp).
 //

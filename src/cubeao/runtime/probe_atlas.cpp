@@ -1,4 +1,4 @@
-#include "cubeao/runtime/probe_residency.h"
+#include "cubeao/runtime/probe_atlas.h"
 
 #include <algorithm>
 #include <array>
@@ -46,81 +46,13 @@ glm::ivec3 slotCorner(const ProbeAtlasLayout& l, SlotId slot, int size) {
 
 }  // namespace
 
-// ---- ProbeSource ---------------------------------------------------------------------------------
-
-ProbeSource::ProbeSource(const CacheReader* cache, const CacheParams& params) : cache_(cache), params_(params) {
-    if (!cache) return;
-    cache->adviseRandomAccess();  // probes are read by priority, each section asked for (prefetch)
-    probes_.resize(cache->probeCount());
-    for (std::size_t i = 0; i < probes_.size(); ++i) {
-        set_.add(cache->position(i));
-        probes_[i].maxDistance = cache->maxDistance(i);
-    }
-}
-
-float ProbeSource::distanceScale(ProbeId id) const {
-    return params_.depthFormat == DepthFormat::R16Unorm ? probes_[index(id)].maxDistance : 1.0f;
-}
-
-ProbeId ProbeSource::add(ProbeRecord record) {
-    if (record.aoConfidence.size() != aoSectionSize(params_) || record.depth.size() != depthSectionSize(params_))
-        throw Error("probe " + std::to_string(record.index) + ": " + std::to_string(record.aoConfidence.size()) +
-                    " AO and " + std::to_string(record.depth.size()) + " distance bytes; this probe set needs " +
-                    std::to_string(aoSectionSize(params_)) + " and " + std::to_string(depthSectionSize(params_)));
-    Probe p;
-    p.maxDistance = record.maxDistance;
-    const ProbeId id = set_.add(record.position);
-    p.added = std::make_unique<ProbeRecord>(std::move(record));
-    probes_.push_back(std::move(p));
-    return id;
-}
-
-void ProbeSource::remove(ProbeId id) {
-    set_.remove(id);  // Error for an unknown or removed id
-    probes_[index(id)].added.reset();
-}
-
-ProbeView ProbeSource::view(ProbeId id) const {
-    const Probe& p = probes_[index(id)];
-    if (p.added) return viewOf(*p.added);
-    return cache_->probe(index(id));
-}
-
-void ProbeSource::prefetch(ProbeId id) const {
-    if (!probes_[index(id)].added && cache_) cache_->prefetch(index(id));
-}
-
-void ProbeSource::prefetchDepth(ProbeId id) const {
-    if (!probes_[index(id)].added && cache_) cache_->prefetchDepth(index(id));
-}
-
-void ProbeSource::releaseAll() const {
-    if (cache_) cache_->releaseAll();
-}
-
-float ProbeSource::distance(ProbeId id, std::size_t texel) const {
-    const Probe& p = probes_[index(id)];
-    const std::span<const std::uint8_t> bytes = p.added ? std::span<const std::uint8_t>(p.added->depth)
-                                                        : cache_->unverifiedDepth(index(id));
-    const std::uint32_t size = depthBytesPerTexel(params_.depthFormat);
-    std::uint32_t stored = 0;
-    if (size == 2) {
-        std::uint16_t v;
-        std::memcpy(&v, bytes.data() + texel * 2, 2);
-        stored = v;
-    } else {
-        std::memcpy(&stored, bytes.data() + texel * 4, 4);
-    }
-    return depth::decodeTexel(stored, params_.depthFormat, p.maxDistance);
-}
-
-// ---- ProbeResidency ------------------------------------------------------------------------------
+// ---- ProbeAtlas ------------------------------------------------------------------------------
 
 std::size_t probeGpuBytes(const CacheParams& p) { return std::size_t(aoSectionSize(p) + depthSectionSize(p)); }
 
 // The staging ring (persistently mapped, written by the host, read by texture uploads) and the
 // feedback ring (written by the projection, read by the host once its copy has finished).
-struct ProbeResidency::Staging {
+struct ProbeAtlas::Staging {
     gl::UploadRing upload;  // kStagingRegions regions of uploadBound_ bytes, one per frame in turn
     // The projection's atomics go into `demand`, in GPU memory; endFrame copies it into the mapped
     // ring. Atomics straight into the persistently mapped ring cost 14 ms a 1080p frame at 2,000
@@ -131,7 +63,7 @@ struct ProbeResidency::Staging {
     gl::ReadbackRing<std::uint32_t, std::int64_t> feedback;  // tagged with the frame
 };
 
-ProbeResidency::ProbeResidency(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings,
+ProbeAtlas::ProbeAtlas(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings,
                                std::size_t minSlots)
     : params_(source.params()), staging_(std::make_unique<Staging>()) {
     const std::size_t perProbe = probeGpuBytes(params_);
@@ -151,7 +83,7 @@ ProbeResidency::ProbeResidency(const ProbeSource& source, std::size_t fixedBytes
     syncProbes(source);
 }
 
-ResidencyPool ProbeResidency::poolFor(std::size_t budgetBytes, std::size_t fixedBytes, std::size_t probes) const {
+ResidencyPool ProbeAtlas::poolFor(std::size_t budgetBytes, std::size_t fixedBytes, std::size_t probes) const {
     ResidencyBudget budget;
     budget.budgetBytes = budgetBytes;
     budget.fixedBytes = fixedBytes;
@@ -163,10 +95,10 @@ ResidencyPool ProbeResidency::poolFor(std::size_t budgetBytes, std::size_t fixed
     return residencyPool(budget);
 }
 
-ProbeResidency::~ProbeResidency() = default;
+ProbeAtlas::~ProbeAtlas() = default;
 
 // Atlases for the pool's layout (the planner has its slots).
-void ProbeResidency::allocateAtlas(const ResidencyPool& pool) {
+void ProbeAtlas::allocateAtlas(const ResidencyPool& pool) {
     const int res = int(params_.res), depthRes = int(params_.depthRes);
     atlas_ = pool.atlas;
     atlasBytes_ = pool.atlasBytes;
@@ -180,7 +112,7 @@ void ProbeResidency::allocateAtlas(const ResidencyPool& pool) {
 
 // A pool twice the size (at least `slots`): new atlases, every resident probe's tiles copied on the
 // GPU to the same slot number in the new layout. Only without a budget.
-void ProbeResidency::growAtlas(std::size_t slots, const ProbeSource& source) {
+void ProbeAtlas::growAtlas(std::size_t slots, const ProbeSource& source) {
     const ProbeAtlasLayout old = atlas_;
     gl::Texture oldAo = std::move(ao_), oldDistance = std::move(distance_);
     const ResidencyPool pool = poolFor(0, 0, std::max(slots, 2 * planner_.slots()));  // no budget: exactly these
@@ -199,7 +131,7 @@ void ProbeResidency::growAtlas(std::size_t slots, const ProbeSource& source) {
     }
 }
 
-void ProbeResidency::ensureCapacity(std::size_t probes) {
+void ProbeAtlas::ensureCapacity(std::size_t probes) {
     if (probes <= capacity_ && table_.id() != 0) return;
     const std::size_t old = capacity_;
     capacity_ = std::max({probes, 2 * old, std::size_t(1)});
@@ -215,7 +147,7 @@ void ProbeResidency::ensureCapacity(std::size_t probes) {
     glNamedBufferStorage(staging_->demand.id(), GLsizeiptr(staging_->words * 4), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
-void ProbeResidency::writeEntry(ProbeId id, const ProbeSource& source) {
+void ProbeAtlas::writeEntry(ProbeId id, const ProbeSource& source) {
     kernel::ProbeEntry e{};
     e.position = source.position(id);
     e.distanceScale = source.distanceScale(id);
@@ -226,7 +158,7 @@ void ProbeResidency::writeEntry(ProbeId id, const ProbeSource& source) {
     glNamedBufferSubData(table_.id(), GLintptr(index(id) * sizeof e), sizeof e, &e);
 }
 
-void ProbeResidency::syncProbes(const ProbeSource& source) {
+void ProbeAtlas::syncProbes(const ProbeSource& source) {
     const std::size_t before = planner_.probes();
     std::size_t live = 0;
     for (std::uint32_t i = 0; i < source.size(); ++i) live += source.isLive(ProbeId{i}) ? 1 : 0;
@@ -248,12 +180,12 @@ void ProbeResidency::syncProbes(const ProbeSource& source) {
         if (const ProbeId id{i}; !source.isLive(id) && planner_.remove(id) != SlotId::None) writeEntry(id, source);
 }
 
-void ProbeResidency::readFeedback() {
+void ProbeAtlas::readFeedback() {
     while (const auto slot = staging_->feedback.poll())  // oldest first
         planner_.feedback(slot->data.first(std::min(staging_->words, slot->data.size())), slot->tag);
 }
 
-void ProbeResidency::upload(const ProbeView& p, SlotId slot, bool direct) {
+void ProbeAtlas::upload(const ProbeView& p, SlotId slot, bool direct) {
     const int res = int(params_.res), depthRes = int(params_.depthRes);
     const glm::ivec3 a = slotCorner(atlas_, slot, res), d = slotCorner(atlas_, slot, depthRes);
     const void* ao = p.aoConfidence.data();
@@ -275,7 +207,7 @@ void ProbeResidency::upload(const ProbeView& p, SlotId slot, bool direct) {
     ++stats_.frameUploads;
 }
 
-void ProbeResidency::update(const ProbeSource& source, std::span<const ProbeId> wanted, bool unbounded) {
+void ProbeAtlas::update(const ProbeSource& source, std::span<const ProbeId> wanted, bool unbounded) {
     const auto start = std::chrono::steady_clock::now();
     readFeedback();
     stats_.frameUploads = 0, stats_.frameUploadBytes = 0;
@@ -322,14 +254,14 @@ void ProbeResidency::update(const ProbeSource& source, std::span<const ProbeId> 
     stats_.frameUploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-ResidencyStats ProbeResidency::stats() const {
+ResidencyStats ProbeAtlas::stats() const {
     ResidencyStats s = stats_;
     s.slots = planner_.slots(), s.resident = planner_.resident();
     s.loads = planner_.loads(), s.evictions = planner_.evictions();
     return s;
 }
 
-std::vector<ProbeResidency::Damaged> ProbeResidency::takeDamaged() { return std::exchange(damaged_, {}); }
+std::vector<ProbeAtlas::Damaged> ProbeAtlas::takeDamaged() { return std::exchange(damaged_, {}); }
 
 std::size_t glBufferBytes(GLuint buffer) {
     GLint64 size = 0;
@@ -352,13 +284,13 @@ std::size_t glTextureBytes(GLuint texture) {
 
 }  // namespace
 
-std::size_t ProbeResidency::allocatedGpuBytes() const {
+std::size_t ProbeAtlas::allocatedGpuBytes() const {
     return glTextureBytes(ao_.id()) + glTextureBytes(distance_.id()) + glBufferBytes(table_.id()) +
            glBufferBytes(staging_->upload.buffer()) + glBufferBytes(staging_->feedback.buffer()) +
            glBufferBytes(staging_->demand.id());
 }
 
-void ProbeResidency::bind() {
+void ProbeAtlas::bind() {
     // Every slot unread: read what has passed now; endFrame's push drops the oldest if it has not (a hint).
     if (staging_->feedback.inFlight() == staging_->feedback.slots()) readFeedback();
     glClearNamedBufferData(staging_->demand.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
@@ -368,7 +300,7 @@ void ProbeResidency::bind() {
     glBindTextureUnit(kernel::kProbeDistanceUnit, distance_.id());
 }
 
-void ProbeResidency::endFrame() {
+void ProbeAtlas::endFrame() {
     staging_->feedback.push(staging_->demand.id(), frame());  // the pass's atomics, read a frame or more later
     planner_.endFrame();
 }

@@ -1,4 +1,4 @@
-// Which probes are on the GPU (DESIGN.md §4 "Run time that grows"): a fixed pool of atlas slots sized
+// The probe atlas: which probes are on the GPU (DESIGN.md §4 "Run time that grows"): a fixed pool of atlas slots sized
 // from a GPU memory budget, filled from the probes' stored bytes (BC5 AO + confidence, the distance
 // cube in its stored format: compressed all the way, no decode on the CPU) by a priority the caller
 // computes each frame, at most a fixed number of bytes per frame, through a persistently mapped
@@ -11,8 +11,7 @@
 // while a worse one stays. Those rules are ResidencyPlanner's (residency_planner.h, no GL); this class
 // applies its plan: uploads, the probe table, the feedback ring.
 //
-// ProbeSource is where the bytes live: a mapped cache (pages prefetched before and released after the
-// upload, so the RSS does not grow with the cache) and probes added at run time.
+// The bytes come from a ProbeSource (probe_source.h).
 #pragma once
 
 #include <cstddef>
@@ -26,50 +25,10 @@
 
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/gl/handles.h"
-#include "cubeao/runtime/probe_set.h"
+#include "cubeao/runtime/probe_source.h"
 #include "cubeao/runtime/residency_planner.h"
 
 namespace cubeao {
-
-// Probes by id and their bytes: the cache's probes first (id = cache order), then those added at run
-// time. Removed probes keep their id. Which are live, and where each is, is the ProbeSet it holds.
-class ProbeSource {
-public:
-    ProbeSource(const CacheReader* cache, const CacheParams& params);  // cache may be null: start empty
-
-    const CacheParams& params() const { return params_; }
-    const ProbeSet& probes() const { return set_; }
-    std::size_t size() const { return set_.size(); }
-    bool isLive(ProbeId id) const { return set_.isLive(id); }
-    glm::vec3 position(ProbeId id) const { return set_.position(id); }
-    // Multiplies a stored distance texel into world units on the GPU (r16unorm: maxDistance; floats: 1).
-    float distanceScale(ProbeId id) const;
-
-    // A record with the cache's section sizes (Error otherwise, naming them); returns its id.
-    ProbeId add(ProbeRecord record);
-    void remove(ProbeId id);  // Error for an unknown or removed id
-
-    // The stored bytes (a cache probe's checksum is checked on first use).
-    ProbeView view(ProbeId id) const;
-    void prefetch(ProbeId id) const;       // page hint for a cache probe; nothing for added ones
-    void prefetchDepth(ProbeId id) const;  // the same for its distance section alone
-    void releaseAll() const;  // every cache page (CacheReader::releaseAll)
-    // Distance-cube texel `texel` (cube::texelIndex order, depthRes faces) in world units, read from
-    // the stored bytes: what the candidate grid's visibility test needs, without a decoded copy. A
-    // cache probe's checksum is not checked here (CacheReader::unverifiedDepth): building the grid
-    // then reads the distance sections alone, not the whole file; view() checks it before upload.
-    float distance(ProbeId id, std::size_t texel) const;
-
-private:
-    struct Probe {
-        float maxDistance = 0.0f;
-        std::unique_ptr<ProbeRecord> added;  // null: cache probe `id`
-    };
-    const CacheReader* cache_ = nullptr;
-    CacheParams params_;
-    ProbeSet set_;
-    std::vector<Probe> probes_;  // by id, beside set_
-};
 
 struct ResidencySettings {
     // GPU bytes for everything the projection allocates (atlases, staging ring, probe table, candidate
@@ -102,15 +61,15 @@ std::size_t glBufferBytes(GLuint buffer);
 // One probe's bytes on the GPU: 6 res² of BC5 + 6 depthRes² distance texels.
 std::size_t probeGpuBytes(const CacheParams& params);
 
-class ProbeResidency {
+class ProbeAtlas {
 public:
     // `fixedBytes`: what the caller allocates besides (grid, counters), counted against the budget.
     // Error when the budget cannot hold one probe, naming what it can hold. Needs a current GL 4.5
     // context.
     // Without a budget the pool starts with room for max(the source's probes, minSlots) and grows.
-    ProbeResidency(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings,
+    ProbeAtlas(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings,
                    std::size_t minSlots = 0);
-    ~ProbeResidency();
+    ~ProbeAtlas();
 
     // Slots in the pool. Without a budget the pool holds every live probe and grows (the atlas is
     // copied on the GPU into one twice the size) when probes are added beyond it.

@@ -1,0 +1,59 @@
+// Where the run's probes and their bytes are: a mapped cache (pages prefetched before an upload and
+// released after it, so the RSS does not grow with the cache) and probes added at run time. No GL: the
+// atlas (probe_atlas.h) uploads from it, the candidate grid reads its distances.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "cubeao/cache/cache_file.h"
+#include "cubeao/runtime/probe_id.h"
+#include "cubeao/runtime/probe_set.h"
+
+namespace cubeao {
+
+// Probes by id and their bytes: the cache's probes first (id = cache order), then those added at run
+// time. Removed probes keep their id. Which are live, and where each is, is the ProbeSet it holds.
+class ProbeSource {
+public:
+    ProbeSource(const CacheReader* cache, const CacheParams& params);  // cache may be null: start empty
+
+    const CacheParams& params() const { return params_; }
+    const ProbeSet& probes() const { return set_; }
+    std::size_t size() const { return set_.size(); }
+    bool isLive(ProbeId id) const { return set_.isLive(id); }
+    glm::vec3 position(ProbeId id) const { return set_.position(id); }
+    // Multiplies a stored distance texel into world units on the GPU (r16unorm: maxDistance; floats: 1).
+    float distanceScale(ProbeId id) const;
+
+    // A record with the cache's section sizes (Error otherwise, naming them); returns its id.
+    ProbeId add(ProbeRecord record);
+    void remove(ProbeId id);  // Error for an unknown or removed id
+
+    // The stored bytes (a cache probe's checksum is checked on first use).
+    ProbeView view(ProbeId id) const;
+    void prefetch(ProbeId id) const;       // page hint for a cache probe; nothing for added ones
+    void prefetchDepth(ProbeId id) const;  // the same for its distance section alone
+    void releaseAll() const;  // every cache page (CacheReader::releaseAll)
+    // Distance-cube texel `texel` (cube::texelIndex order, depthRes faces) in world units, read from
+    // the stored bytes: what the candidate grid's visibility test needs, without a decoded copy. A
+    // cache probe's checksum is not checked here (CacheReader::unverifiedDepth): building the grid
+    // then reads the distance sections alone, not the whole file; view() checks it before upload.
+    float distance(ProbeId id, std::size_t texel) const;
+
+private:
+    struct Probe {
+        float maxDistance = 0.0f;
+        std::unique_ptr<ProbeRecord> added;  // null: cache probe `id`
+    };
+    const CacheReader* cache_ = nullptr;
+    CacheParams params_;
+    ProbeSet set_;
+    std::vector<Probe> probes_;  // by id, beside set_
+};
+
+}  // namespace cubeao
