@@ -22,31 +22,35 @@ class ProbeSet {
 public:
     ProbeSet() = default;
     // Probes 0 … n − 1 at `positions`, all live.
-    explicit ProbeSet(std::span<const glm::vec3> positions)
-        : positions_(positions.begin(), positions.end()), live_(positions.size(), 1), liveCount_(positions.size()) {}
+    explicit ProbeSet(std::span<const glm::vec3> positions) {
+        probes_.reserve(positions.size());
+        for (const glm::vec3& p : positions) add(p);
+    }
 
     // A live probe with the next id, size() before the call.
     ProbeId add(const glm::vec3& position) {
-        positions_.push_back(position);
-        live_.push_back(1);
+        probes_.push_back({position, true});
         ++liveCount_;
-        return ProbeId{std::uint32_t(positions_.size() - 1)};
+        return ProbeId{std::uint32_t(probes_.size() - 1)};
     }
     // Error for an unknown or already removed id.
     void remove(ProbeId id) {
         if (!isLive(id)) throw Error("no live probe with id " + std::to_string(index(id)));
-        live_[index(id)] = 0;
+        probes_[index(id)].live = false;
         --liveCount_;
     }
 
-    std::size_t size() const { return positions_.size(); }  // ids issued, removed ones included
+    std::size_t size() const { return probes_.size(); }  // ids issued, removed ones included
     std::size_t liveCount() const { return liveCount_; }
-    bool isLive(ProbeId id) const { return index(id) < live_.size() && live_[index(id)] != 0; }
-    const glm::vec3& position(ProbeId id) const { return positions_[index(id)]; }
+    bool isLive(ProbeId id) const { return index(id) < probes_.size() && probes_[index(id)].live; }
+    const glm::vec3& position(ProbeId id) const { return probes_[index(id)].position; }
 
 private:
-    std::vector<glm::vec3> positions_;
-    std::vector<std::uint8_t> live_;
+    struct Probe {
+        glm::vec3 position{0.0f};
+        bool live = true;
+    };
+    std::vector<Probe> probes_;
     std::size_t liveCount_ = 0;
 };
 
