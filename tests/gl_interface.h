@@ -58,7 +58,8 @@ void expectUniformBlock(GLuint program, const char* block, const char* instance,
     EXPECT_LE(size, GLint(gl::UniformBlock::kBytes<T>)) << what << ": " << block;
     for (const BlockMember& m : members) {
         const std::string name = std::string(instance) + "." + m.name;
-        EXPECT_EQ(resourceProperty(program, GL_UNIFORM, name.c_str(), GL_OFFSET), GLint(m.offset)) << what << ": " << name;
+        EXPECT_EQ(resourceProperty(program, GL_UNIFORM, name.c_str(), GL_OFFSET), GLint(m.offset))
+            << what << ": " << name;
     }
 }
 

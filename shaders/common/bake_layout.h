@@ -91,8 +91,8 @@ namespace cubeao::kernel {
 static_assert(sizeof(FetchCount) == 8 && offsetof(FetchCount, fetchesHigh) == 4);
 // std140 offsets of the blocks (the driver's are checked in tests/runtime/test_runtime_layout.cpp).
 static_assert(offsetof(BakeBlock, probe) == 384 && offsetof(BakeBlock, res) == 396 &&
-              offsetof(BakeBlock, radius) == 400 && offsetof(BakeBlock, probeKey) == 408 && offsetof(BakeBlock, spp) == 420 &&
-              offsetof(BakeBlock, threshold) == 432 && sizeof(BakeBlock) == 436);
+              offsetof(BakeBlock, radius) == 400 && offsetof(BakeBlock, probeKey) == 408 &&
+              offsetof(BakeBlock, spp) == 420 && offsetof(BakeBlock, threshold) == 432 && sizeof(BakeBlock) == 436);
 static_assert(sizeof(EncodeBlock) == 12 && offsetof(EncodeBlock, format) == 8);
 // groupsX..Z are what glDispatchComputeIndirect reads at offset 0; the texel indices follow at 16.
 static_assert(sizeof(TexelListHeader) == 16 && offsetof(TexelListHeader, groupsY) == 4 &&

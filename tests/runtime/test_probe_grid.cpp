@@ -82,8 +82,8 @@ TEST(ProbeGrid, AFarProbeWithTheOnlyViewOfASurfaceBeatsNearerOnes) {
 TEST(ProbeGrid, WorkPerPointStaysKAndMemoryIsCapped) {
     std::vector<glm::vec3> probes;
     for (int i = 0; i < 1000; ++i) probes.push_back({float(i % 10) + 0.5f, float(i / 100) * 0.3f, float((i / 10) % 10) + 0.5f});
-    const ProbeGrid grid({0, 0, 0}, {10, 3, 10}, ProbeSet(probes), floorLine(), [](std::uint32_t, const SurfaceSample&) { return 1.0; },
-                         {8, 0.05f, 4096, 0, 0});
+    const ProbeGrid grid({0, 0, 0}, {10, 3, 10}, ProbeSet(probes), floorLine(),
+                         [](std::uint32_t, const SurfaceSample&) { return 1.0; }, {8, 0.05f, 4096, 0, 0});
     EXPECT_LE(std::size_t(grid.dims().x) * grid.dims().y * grid.dims().z, 4096u) << "cells grow to fit the cap";
     EXPECT_EQ(grid.candidates({5, 1, 5}).size(), 8u);
     EXPECT_EQ(grid.candidates({0.2f, 0.0f, 1.0f}).size(), 8u);

@@ -65,8 +65,8 @@ void probesSection(const PanelFigures& f) {
     if (!f.probes) return;
     section("probes");
     const ResidencyStats& r = f.probes->residency().stats();
-    ImGui::Text("%zu resident of %zu · %zu slots · %.1f MB", r.resident, f.probes->source().probes().liveCount(), r.slots,
-                double(f.probes->gpuBytes()) / 1048576.0);
+    ImGui::Text("%zu resident of %zu · %zu slots · %.1f MB", r.resident, f.probes->source().probes().liveCount(),
+                r.slots, double(f.probes->gpuBytes()) / 1048576.0);
     ImGui::Text("uploads %zu this frame (%.1f KB, %.2f ms)", r.frameUploads, double(r.frameUploadBytes) / 1024.0,
                 r.frameUploadMs);
     const double probesShare = std::max(0.0, f.shares.geometry - f.shares.uncovered - f.shares.fallbackProbe);

@@ -11,15 +11,16 @@
 namespace cubeao {
 namespace {
 
+double triangleArea(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices, std::size_t t) {
+    const glm::vec3 a = positions[indices[3 * t]], b = positions[indices[3 * t + 1]], c = positions[indices[3 * t + 2]];
+    return 0.5 * double(glm::length(glm::cross(b - a, c - a)));
+}
+
 // The area of each triangle summed in order: cumulative[t] = area of triangles 0..t.
 std::vector<double> cumulativeArea(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices) {
     std::vector<double> cumulative(indices.size() / 3);
     double total = 0.0;
-    for (std::size_t t = 0; t < cumulative.size(); ++t) {
-        const glm::vec3 a = positions[indices[3 * t]], b = positions[indices[3 * t + 1]], c = positions[indices[3 * t + 2]];
-        total += 0.5 * double(glm::length(glm::cross(b - a, c - a)));
-        cumulative[t] = total;
-    }
+    for (std::size_t t = 0; t < cumulative.size(); ++t) cumulative[t] = total += triangleArea(positions, indices, t);
     return cumulative;
 }
 
@@ -61,8 +62,8 @@ std::vector<SurfaceSample> sampleSurface(std::span<const glm::vec3> positions, s
 
 std::size_t surfacePointsFor(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
                              float spacing, std::size_t maxSamples) {
-    const std::vector<double> cumulative = cumulativeArea(positions, indices);
-    const double total = cumulative.empty() ? 0.0 : cumulative.back();
+    double total = 0.0;  // summed in cumulativeArea's order: the same total sampleSurface divides
+    for (std::size_t t = 0; t < indices.size() / 3; ++t) total += triangleArea(positions, indices, t);
     const double perSide = std::ceil(total / (double(spacing) * double(spacing)));
     return std::size_t(std::min(perSide, double(maxSamples / 2)));
 }

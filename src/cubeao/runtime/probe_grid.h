@@ -43,9 +43,9 @@ struct ProbeGridSettings {
 // construction, and only the cells whose competition a probe joins or leaves are chosen again, with
 // the same rule, so the table always equals the one a grid built from scratch over the same probes
 // (same ids, same order) would hold. The grid keeps no probes of its own: each call that chooses
-// reads the ProbeSet it is given (probe_set.h), the one record of ids, positions and liveness. A cell's competition is its `considered` nearest live probes; a
-// probe changes it only if it lies within the farthest of them (all cells when there are no more live
-// probes than `considered`).
+// reads the ProbeSet it is given (probe_set.h), the one record of ids, positions and liveness. A
+// cell's competition is its `considered` nearest live probes; a probe changes it only if it lies
+// within the farthest of them (all cells when there are no more live probes than `considered`).
 class ProbeGrid {
 public:
     // quality(probe, point) ≥ 0: how well `probe` shades `point`; 0 = not at all. Kept and called
