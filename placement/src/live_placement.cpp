@@ -22,6 +22,14 @@ void BakeBudget::newFrame() { balance_ = std::min(balance_ + msPerFrame_, msPerF
 
 namespace {
 
+// The parameters of what a live bake makes: the bake's (cacheParamsFor), its AO kept as BC5 (the
+// bakers' output, AO + confidence), so that fast and traced probes can replace each other in one pass.
+CacheParams liveParams(const BakeSettings& s, const Scene& scene) {
+    CacheParams p = cacheParamsFor(s, scene);
+    p.aoFormat = AoFormat::Bc5;
+    return p;
+}
+
 // The cache fields a fast and a traced probe must share to replace each other in one pass: what
 // the sections' sizes and the run time's distances depend on (the estimator's own fields are free).
 CacheParams sectionParams(CacheParams p) {
@@ -87,8 +95,8 @@ struct LivePlacement::Impl {
     Impl(const PlacementScene& ps, const BakeSettings& fast, const BakeSettings& traced, LiveSettings s)
         : ps(ps),
           settings(s),
-          fastParams(cacheParamsFor(fast, ps.scene())),
-          tracedParams(cacheParamsFor(traced, ps.scene())),
+          fastParams(liveParams(fast, ps.scene())),
+          tracedParams(liveParams(traced, ps.scene())),
           feedback(ps, s.feedback),
           fastBaker(ps.scene(), fast),
           budget(s.bakeMsPerFrame) {
@@ -223,10 +231,12 @@ void LivePlacement::adopt(std::vector<ProbeRecord> probes, std::span<const Probe
     if (passIds.size() != probes.size())
         throw Error("LivePlacement::adopt: " + std::to_string(probes.size()) + " probes but " +
                     std::to_string(passIds.size()) + " pass ids");
-    const bool traced = params == m.tracedParams;
-    if (!traced && params != m.fastParams)
+    CacheParams held = params;  // the probes join the pass as BC5, whatever their cache stores (liveParams)
+    held.aoFormat = m.fastParams.aoFormat;
+    const bool traced = held == m.tracedParams;
+    if (!traced && held != m.fastParams)
         throw Error("LivePlacement::adopt: the cache was baked with other parameters than the live bake: " +
-                    joined(cacheParamDifferences(params, m.fastParams)));
+                    joined(cacheParamDifferences(held, m.fastParams)));
     std::vector<std::uint32_t> indices;
     for (const Impl::Probe& known : m.probes) indices.push_back(known.index);
     for (const ProbeRecord& r : probes) indices.push_back(r.index);
@@ -239,7 +249,7 @@ void LivePlacement::adopt(std::vector<ProbeRecord> probes, std::span<const Probe
         p.position = probes[i].position;
         p.passId = passIds[i];
         p.traced = traced;
-        p.record = std::move(probes[i]);
+        p.record = withAoFormat(std::move(probes[i]), held.aoFormat, held.res);
         m.nextIndex = std::max(m.nextIndex, p.index + 1);
         m.probes.push_back(std::move(p));
     }
@@ -322,7 +332,13 @@ std::size_t LivePlacement::save(const std::filesystem::path& path) const {
             allTraced = allTraced && p.traced;
         }
     std::sort(views.begin(), views.end(), [](const ProbeView& a, const ProbeView& b) { return a.index < b.index; });
-    writeCache(path, allTraced && !views.empty() ? m.tracedParams : m.fastParams, views);
+    // All traced: the cache a traced bake writes, AO stored as BC4 (writeCache converts the BC5 records).
+    CacheParams params = m.fastParams;
+    if (allTraced && !views.empty()) {
+        params = m.tracedParams;
+        params.aoFormat = defaultAoFormat(params.estimator);
+    }
+    writeCache(path, params, views);
     return views.size();
 }
 

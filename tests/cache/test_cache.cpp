@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "cubeao/cache/bc4.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/core/error.h"
 #include "test_util.h"
@@ -201,6 +202,121 @@ TEST(CacheFile, TheAoFilterIsFormatThreeAndABakeParameter) {
     writeBytes(dir / "wide.cubeao", forged);
     const std::string wide = errorMessage([&] { CacheReader r(dir / "wide.cubeao"); });
     EXPECT_TRUE(contains(wide, "denoise 9 is not in 0..8")) << wide;
+}
+
+// BC5 probes of a traced bake: random AO (red) blocks, confidence 1 in every texel (green blocks
+// FF FE 00.., what the encoder makes of sixteen ones), the payload a traced bake hands the writer.
+std::vector<ProbeRecord> tracedProbes(const CacheParams& p, int n, unsigned seed, float offset = 0.0f) {
+    std::vector<ProbeRecord> probes = randomProbes(p, n, seed, offset);
+    for (ProbeRecord& r : probes)
+        for (std::size_t b = 0; b < r.aoConfidence.size(); b += 16) {
+            const std::uint8_t one[8] = {255, 254, 0, 0, 0, 0, 0, 0};
+            std::memcpy(&r.aoConfidence[b + 8], one, 8);
+        }
+    return probes;
+}
+
+// The red half of every 16-byte BC5 block, written out here (docs/FORMAT.md "AO alone").
+Bytes redHalves(const std::vector<std::uint8_t>& bc5) {
+    Bytes out;
+    for (std::size_t b = 0; b < bc5.size(); b += 16) out.insert(out.end(), bc5.begin() + long(b), bc5.begin() + long(b + 8));
+    return out;
+}
+
+// A traced cache stores its AO as BC4 (format 4, byte 116 = 1): half the AO bytes, the red halves
+// of the BC5 blocks the bake made, converted on the way; BC5 from it again gives the bake's bytes
+// back. Every other byte of the header is what a BC5 cache of the same probes has.
+TEST(CacheFile, ATracedCacheStoresItsAoAsBc4InFormatFour) {
+    TempDir dir("cache");
+    CacheParams p = smallParams(16, 4);
+    p.estimator = 2;  // traced
+    p.hybridThreshold = 0.0f;
+    const auto probes = tracedProbes(p, 3, 31);
+    writeCache(dir / "bc5.cubeao", p, probes);
+    CacheParams bc4 = p;
+    bc4.aoFormat = AoFormat::Bc4;
+    writeCache(dir / "bc4.cubeao", bc4, probes);  // BC5 records: converted as they are written
+
+    const CacheReader r(dir / "bc4.cubeao");
+    EXPECT_EQ(r.formatVersion(), 4u);
+    EXPECT_EQ(r.params(), bc4);
+    EXPECT_EQ(aoSectionSize(bc4), 6u * 4u * 4u * 8u);
+    EXPECT_EQ(aoSectionSize(bc4) * 2, aoSectionSize(p));
+    EXPECT_EQ(r.fileSize(), cacheFileSize(bc4, 3));
+    r.verifyAll();
+    for (std::size_t i = 0; i < probes.size(); ++i) {
+        const ProbeView v = r.probe(i);
+        EXPECT_EQ(v.aoFormat, AoFormat::Bc4);
+        EXPECT_EQ(Bytes(v.aoConfidence.begin(), v.aoConfidence.end()), redHalves(probes[i].aoConfidence)) << i;
+        EXPECT_TRUE(std::equal(v.depth.begin(), v.depth.end(), probes[i].depth.begin(), probes[i].depth.end()));
+        const ProbeRecord back = withAoFormat(r.copyProbe(i), AoFormat::Bc5, p.res);
+        EXPECT_EQ(back.aoConfidence, probes[i].aoConfidence) << "BC4 -> BC5 gives the bake's blocks back";
+    }
+    const Bytes a = readBytes(dir / "bc5.cubeao"), b = readBytes(dir / "bc4.cubeao");
+    EXPECT_EQ(a[8], 1u);
+    EXPECT_EQ(b[8], 4u);
+    EXPECT_EQ(b[116], 1u);
+    for (std::size_t at = 16; at < 120; ++at) {
+        if ((at < 80 || at >= 104) && at != 116) {  // payload size, file size, table checksum (80..103) differ
+            EXPECT_EQ(a[at], b[at]) << "header byte " << at;
+        }
+    }
+
+    // Converting keeps the AO bit for bit whatever the confidence held; BC4 reads back confidence 1.
+    const auto hybrid = randomProbes(p, 1, 32);
+    const auto alone = convertAoSection(hybrid[0].aoConfidence, p.res, AoFormat::Bc5, AoFormat::Bc4);
+    EXPECT_EQ(alone, redHalves(hybrid[0].aoConfidence));
+    const auto widened = convertAoSection(alone, p.res, AoFormat::Bc4, AoFormat::Bc5);
+    EXPECT_EQ(redHalves(widened), alone);
+    for (std::size_t b5 = 8; b5 < widened.size(); b5 += 16)
+        ASSERT_EQ(Bytes(widened.begin() + long(b5), widened.begin() + long(b5 + 8)), Bytes({255, 254, 0, 0, 0, 0, 0, 0}));
+    const float ones[16] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+    EXPECT_EQ(bc::encodeBc4Block(ones), 0xFEFFu) << "the green block a traced bake writes";
+    EXPECT_TRUE(contains(errorMessage([&] { convertAoSection(alone, p.res, AoFormat::Bc5, AoFormat::Bc4); }),
+                         "is not bc5 at res 16"));
+}
+
+// BC4 drops the confidence, so only traced caches may use it: the writer refuses another estimator,
+// and so does the reader (a forged byte 116); a format-3 file with byte 116 set is damaged, and a
+// value outside the enum is named.
+TEST(CacheFile, Bc4IsForTracedCachesAndByte116IsReservedBeforeFormatFour) {
+    TempDir dir("cache");
+    CacheParams p = smallParams(16, 4);  // hybrid: its confidence is what the projection ranks by
+    CacheParams bc4 = p;
+    bc4.aoFormat = AoFormat::Bc4;
+    const std::string refused = errorMessage([&] { writeCache(dir / "h.cubeao", bc4, randomProbes(p, 1, 33)); });
+    EXPECT_TRUE(contains(refused, "ao format bc4 holds no confidence: only traced caches")) << refused;
+    EXPECT_FALSE(std::filesystem::exists(dir / "h.cubeao"));
+
+    p.estimator = 2;
+    p.hybridThreshold = 0.0f;
+    p.denoise = 1;  // format 3
+    writeCache(dir / "t3.cubeao", p, tracedProbes(p, 1, 34));
+    Bytes forged = readBytes(dir / "t3.cubeao");
+    ASSERT_EQ(forged[8], 3u);
+    forged[116] = 1;
+    reseal(forged);
+    writeBytes(dir / "forged3.cubeao", forged);
+    EXPECT_TRUE(contains(errorMessage([&] { CacheReader r(dir / "forged3.cubeao"); }), "reserved bytes are not zero"));
+
+    bc4 = p;
+    bc4.aoFormat = AoFormat::Bc4;
+    writeCache(dir / "t4.cubeao", bc4, tracedProbes(p, 1, 34));
+    forged = readBytes(dir / "t4.cubeao");
+    forged[33] = 0;  // hsplit
+    reseal(forged);
+    writeBytes(dir / "hsplit4.cubeao", forged);
+    EXPECT_TRUE(contains(errorMessage([&] { CacheReader r(dir / "hsplit4.cubeao"); }), "ao format bc4 holds no confidence"));
+    forged = readBytes(dir / "t4.cubeao");
+    forged[116] = 7;
+    reseal(forged);
+    writeBytes(dir / "seven.cubeao", forged);
+    EXPECT_TRUE(contains(errorMessage([&] { CacheReader r(dir / "seven.cubeao"); }), "ao format 7 is not bc5 (0) or bc4 (1)"));
+    forged = readBytes(dir / "t4.cubeao");
+    forged[117] = 1;
+    reseal(forged);
+    writeBytes(dir / "r117.cubeao", forged);
+    EXPECT_TRUE(contains(errorMessage([&] { CacheReader r(dir / "r117.cubeao"); }), "reserved bytes are not zero"));
 }
 
 TEST(CacheFile, RoundTripEveryDepthFormatAndNoProbes) {
@@ -541,6 +657,46 @@ TEST(CacheFile, MergeShardsAndRefuseMismatches) {
         << msg;
     EXPECT_TRUE(contains(errorMessage([&] { mergeCaches(dir / "out2.cubeao", {}); }), "at least one input"));
     EXPECT_FALSE(std::filesystem::exists(dir / "out2.cubeao"));
+}
+
+// Merge converts: inputs that differ in the AO format alone are merged into the format asked for
+// (default: the first input's); the AO survives either way, and a non-traced cache is not made BC4.
+TEST(CacheFile, MergeConvertsTheAoFormat) {
+    TempDir dir("cache");
+    CacheParams p = smallParams(16, 4);
+    p.estimator = 2;
+    p.hybridThreshold = 0.0f;
+    CacheParams bc4 = p;
+    bc4.aoFormat = AoFormat::Bc4;
+    const auto a = tracedProbes(p, 2, 41), b = tracedProbes(p, 1, 42, 10.0f);
+    writeCache(dir / "a5.cubeao", p, a);
+    writeCache(dir / "b4.cubeao", bc4, b);
+    mergeCaches(dir / "first.cubeao", {dir / "a5.cubeao", dir / "b4.cubeao"});
+    mergeCaches(dir / "as4.cubeao", {dir / "a5.cubeao", dir / "b4.cubeao"}, {}, AoFormat::Bc4);
+    {
+        const CacheReader first(dir / "first.cubeao"), as4(dir / "as4.cubeao");
+        EXPECT_EQ(first.params(), p);
+        EXPECT_EQ(as4.params(), bc4);
+        ASSERT_EQ(first.probeCount(), 3u);
+        ASSERT_EQ(as4.probeCount(), 3u);
+        const std::vector<ProbeRecord> all = {a[0], a[1], b[0]};
+        for (std::size_t i = 0; i < 3; ++i) {
+            expectSameProbe(first.probe(i), all[i]);
+            EXPECT_EQ(Bytes(as4.probe(i).aoConfidence.begin(), as4.probe(i).aoConfidence.end()),
+                      redHalves(all[i].aoConfidence));
+        }
+        first.verifyAll();
+        as4.verifyAll();
+    }
+    // Back to BC5 in place: the file a BC5 merge of the same probes writes, byte for byte.
+    mergeCaches(dir / "as4.cubeao", {dir / "as4.cubeao"}, {}, AoFormat::Bc5);
+    EXPECT_EQ(readBytes(dir / "as4.cubeao"), readBytes(dir / "first.cubeao"));
+
+    const CacheParams hybrid = smallParams(16, 4);
+    writeCache(dir / "h.cubeao", hybrid, randomProbes(hybrid, 1, 43));
+    const std::string msg = errorMessage([&] { mergeCaches(dir / "h4.cubeao", {dir / "h.cubeao"}, {}, AoFormat::Bc4); });
+    EXPECT_TRUE(contains(msg, "cannot write bc4 AO") && contains(msg, "holds no confidence")) << msg;
+    EXPECT_FALSE(std::filesystem::exists(dir / "h4.cubeao"));
 }
 
 }  // namespace

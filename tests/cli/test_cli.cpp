@@ -336,11 +336,46 @@ TEST(CliCache, BakeWritesACacheThatInfoDescribes) {
     EXPECT_EQ(info["estimator"].get<std::string>(), "traced");
     EXPECT_EQ(info["spp"].get<int>(), 8);
     EXPECT_EQ(info["scene_hash"], lastLine(run("info builtin:box-room --json").out)["hash"]);
-    // Header 128 + 8, per probe a 64-byte entry, 6·16² BC5 bytes and 6·4² r16unorm texels.
-    const double expected = (136.0 + 3 * (64 + 6 * 256 + 6 * 16 * 2)) / (3 * 6 * 256);
+    // Header 128 + 8, per probe a 64-byte entry, 6·16² / 2 BC4 bytes (traced: AO alone) and 6·4²
+    // r16unorm texels.
+    EXPECT_EQ(info["ao_format"].get<std::string>(), "bc4");
+    EXPECT_EQ(info["format_version"].get<int>(), 4);
+    const double expected = (136.0 + 3 * (64 + 6 * 256 / 2 + 6 * 16 * 2)) / (3 * 6 * 256);
     EXPECT_DOUBLE_EQ(info["bytes_per_texel"].get<double>(), expected);
     EXPECT_DOUBLE_EQ(baked["bytes_per_texel"].get<double>(), expected);
     EXPECT_FALSE(info.contains("verified"));
+}
+
+// `bake --ao`: traced stores BC4 by default and BC5 when asked; BC4 for an estimator with a
+// confidence is a usage error; a BC5 traced cache (an earlier build's) resumes with --ao bc5, the
+// default names that way; `merge --ao bc4` converts it into the cache a BC4 bake writes, byte for byte.
+TEST(CliCache, BakeAndMergeChooseTheAoFormat) {
+    TempDir dir;
+    const std::string probes = probeSet(dir, "two.json", 2), four = probeSet(dir, "four.json", 4);
+    const fs::path bc5 = dir.path() / "t5.cubeao", bc4 = dir.path() / "t4.cubeao", merged = dir.path() / "m.cubeao";
+    const std::string traced = "bake builtin:box-room --res 8 --spp 4 --device cpu --probes ";
+    ASSERT_EQ(run(traced + four + " --out " + bc4.string()).code, 0);
+    const CliRun b5 = run(traced + probes + " --out " + bc5.string() + " --ao bc5 --json");
+    ASSERT_EQ(b5.code, 0) << b5.out;
+    EXPECT_EQ(lastLine(b5.out)["settings"]["ao_format"], "bc5") << b5.out;
+    EXPECT_EQ(CacheReader(bc4).params().aoFormat, cubeao::AoFormat::Bc4);
+    EXPECT_EQ(CacheReader(bc5).params().aoFormat, cubeao::AoFormat::Bc5);
+
+    const CliRun hsplit = run("bake builtin:box-room --res 8 --estimator hsplit --device cpu --ao bc4 --probes " + probes +
+                                  " --out " + (dir.path() / "h.cubeao").string(),
+                              true);
+    EXPECT_EQ(hsplit.code, 2);
+    EXPECT_TRUE(contains(hsplit.out, "--ao bc4") && contains(hsplit.out, "use bc5")) << hsplit.out;
+    EXPECT_EQ(run("bake builtin:box-room --ao bc6 --probes " + probes + " --out " + bc5.string(), true).code, 2);
+
+    const CliRun resumed = run(traced + four + " --out " + bc5.string(), true);
+    EXPECT_EQ(resumed.code, 1);
+    EXPECT_TRUE(contains(resumed.out, "ao format bc5 vs bc4") && contains(resumed.out, "--ao bc5 resumes it")) << resumed.out;
+    ASSERT_EQ(run(traced + four + " --out " + bc5.string() + " --ao bc5").code, 0);
+    const CliRun m = run("merge " + merged.string() + " " + bc5.string() + " --ao bc4 --json");
+    ASSERT_EQ(m.code, 0) << m.out;
+    EXPECT_EQ(lastLine(m.out)["ao_format"], "bc4");
+    EXPECT_EQ(fileBytes(merged), fileBytes(bc4)) << "BC5 -> BC4 is the red half of each block: what the bake writes";
 }
 
 TEST(CliCache, BakeResumesAndRefusesAnotherBake) {

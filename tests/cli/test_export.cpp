@@ -158,8 +158,9 @@ protected:
         const std::string probes = dir_->write(
             "probes.json", R"({"version":1,"probes":[{"pos":[3,1.4,2.5]},{"pos":[6,1.5,1.5]},{"pos":[1.5,1.2,4]}]})");
         cache_ = (dir_->path() / "box.cubeao").string();
+        // BC5 (a traced bake's default is BC4): the export of both channels is what most tests read.
         const CliRun b = run("bake builtin:box-room --probes " + probes + " --out " + cache_ +
-                             " --res 32 --spp 4 --device cpu", true);
+                             " --res 32 --spp 4 --device cpu --ao bc5", true);
         ASSERT_EQ(b.code, 0) << b.out;
     }
     static void TearDownTestSuite() {
@@ -267,6 +268,29 @@ TEST_F(ExportTest, DdsReadsBackThroughOpenImageIo) {
                 mismatches += ao4.pixels[std::size_t(f * res + jj) * res + ii] !=
                               bcdecByte(decoded[cubeao::cube::texelIndex(f, ii, jj, res)].x);
     EXPECT_EQ(mismatches, 0u);
+}
+
+// A BC4 cache (the traced default) exports BC4 by default: the very files `--ao bc4` writes from
+// its BC5 twin; `--ao bc5` gives back the BC5 blocks with confidence 1.
+TEST_F(ExportTest, ABc4CacheExportsBc4ByDefault) {
+    ASSERT_FALSE(HasFatalFailure());
+    const std::string bc4 = (dir_->path() / "box4.cubeao").string();
+    ASSERT_EQ(run("merge " + bc4 + " " + cache_ + " --ao bc4").code, 0);
+    const fs::path fromBc4 = dir_->path() / "from-bc4", fromBc5 = dir_->path() / "from-bc5",
+                   widened = dir_->path() / "widened";
+    ASSERT_EQ(run("export " + bc4 + " --out " + fromBc4.string()).code, 0);
+    ASSERT_EQ(run("export " + cache_ + " --ao bc4 --out " + fromBc5.string()).code, 0);
+    ASSERT_EQ(run("export " + bc4 + " --ao bc5 --out " + widened.string()).code, 0);
+    const nlohmann::json m = readJson(fromBc4 / "manifest.json");
+    EXPECT_EQ(m["ao"]["format"], "bc4_unorm");
+    const CacheReader cache(cache_);
+    for (std::size_t i = 0; i < m["probes"].size(); ++i) {
+        const std::string ao = m["probes"][i]["ao"].get<std::string>();
+        EXPECT_EQ(fileBytes(fromBc4 / ao), fileBytes(fromBc5 / ao)) << ao;
+        const cubeao::ProbeView v = cache.probe(i);
+        EXPECT_EQ(ddsCubePayload(widened / ao, 83, cache.params().res), bytesOf(v.aoConfidence))
+            << "a traced probe's confidence is 1: widening gives its BC5 blocks back";
+    }
 }
 
 // KTX 2.0 File Format Specification §3: identifier, header, index, level index, DFD, KVD, levels.

@@ -351,7 +351,8 @@ TEST_F(LivePlacementGl, BoxRoomWalkFromNoProbesReachesTargetAndSavesAVerifiedCac
     EXPECT_EQ(s.baked, s.placed) << "drain bakes everything placed";
     EXPECT_EQ(s.queued, 0u);
     EXPECT_EQ(s.inPass, s.placed);
-    EXPECT_EQ(pass.source().probes().liveCount(), s.placed) << "the pass holds every probe once (re-bakes replaced theirs)";
+    EXPECT_EQ(pass.source().probes().liveCount(), s.placed)
+        << "the pass holds every probe once (re-bakes replaced theirs)";
     EXPECT_GE(idled.rebaked, 1u) << "standing still re-bakes with traced";
     // Every walk frame asks for a count (one is put off to the next frame only while kSlots are in
     // flight, and drain() handles what is left); standing still, the view counted last is not counted
@@ -407,6 +408,7 @@ TEST_F(LivePlacementGl, BoxRoomWalkFromNoProbesReachesTargetAndSavesAVerifiedCac
     EXPECT_EQ(second.probeCount(), s.placed);
     if (resaved.rebaked == s.placed) {
         EXPECT_EQ(second.params().estimator, std::uint8_t(Estimator::Traced)) << "every probe traced: say so";
+        EXPECT_EQ(second.params().aoFormat, AoFormat::Bc4) << "stored as a traced bake stores it";
     } else {
         EXPECT_EQ(second.params(), params);
     }

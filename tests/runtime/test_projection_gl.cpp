@@ -50,20 +50,44 @@ void decodeProbes(const CacheReader& cache, std::vector<Decoded>& decoded, std::
     for (std::size_t i = 0; i < cache.probeCount(); ++i) {
         const ProbeView p = cache.probe(i);
         std::vector<glm::vec2> rg;
-        ASSERT_TRUE(bc::decodeBc5Cube(p.aoConfidence.data(), p.aoConfidence.size(), int(params.res), rg));
+        ASSERT_TRUE(bc::decodeAoCube(p.aoConfidence, int(params.res), p.aoFormat, rg));
         for (const glm::vec2& v : rg) decoded[i].ao.push_back(v.x), decoded[i].confidence.push_back(v.y);
         ASSERT_TRUE(depth::decode(p.depth, int(params.depthRes), params.depthFormat, p.maxDistance, decoded[i].distance));
         views[i] = {p.position, int(params.res), decoded[i].ao, decoded[i].confidence, int(params.depthRes), decoded[i].distance};
     }
 }
 
-TEST_F(GlTest, ProbeProjectionMatchesTheCpuTwin) {
-    test::TempDir dir;
+// Three probes in the box room, traced on the CPU at 16² into DIR/c.cubeao (stored as BC4, the traced
+// default).
+std::string bakeThreeProbes(const test::TempDir& dir) {
     const std::string probes = dir.write("probes.json", R"({"version":1,"probes":[{"pos":[3,1.4,2.5]},{"pos":[6,1.5,1.5]},{"pos":[2,1.2,4.5]}]})");
     const std::string cacheFile = (dir.path() / "c.cubeao").string();
     const std::string cmd = std::string(cubeao::test::cubeaoBinary()) + " bake builtin:box-room --probes " + probes + " --out " +
                             cacheFile + " --res 16 --spp 16 --radius 1 --device cpu > /dev/null 2>&1";
-    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    return cacheFile;
+}
+
+// The probe pass's AO image (before the blur) of the box room's path frame 3 at 96 × 54.
+std::vector<float> projectFrame(const Scene& scene, const CacheReader& cache, const ProbeProjectionSettings& settings,
+                                std::size_t* gpuBytes = nullptr) {
+    const CameraPath path = builtinCameraPath("builtin:box-room");
+    const CameraView view = CameraView::fromPinhole(PinholeCamera(path, 3, 96, 54), path.nearPlane);
+    CameraGBuffer gbuffer(scene.positions, scene.indices);
+    gbuffer.render(view);
+    ProbeProjectionPass pass(cache, scene.positions, scene.indices, settings);
+    const gl::Texture aoImage = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(aoImage.id(), 1, GL_R32F, view.width, view.height);
+    pass.run(gbuffer, view, 3, aoImage.id());
+    std::vector<float> ao(std::size_t(view.width) * std::size_t(view.height));
+    glGetTextureImage(aoImage.id(), 0, GL_RED, GL_FLOAT, GLsizei(ao.size() * sizeof(float)), ao.data());
+    if (gpuBytes) *gpuBytes = pass.residency().allocatedGpuBytes();
+    return ao;
+}
+
+TEST_F(GlTest, ProbeProjectionMatchesTheCpuTwin) {
+    test::TempDir dir;
+    const std::string cacheFile = bakeThreeProbes(dir);
 
     const Scene scene = loadScene("builtin:box-room");
     const CacheReader cache(cacheFile);
@@ -113,6 +137,36 @@ TEST_F(GlTest, ProbeProjectionMatchesTheCpuTwin) {
     EXPECT_LE(far, surface / 50) << "pixels differing by more than 0.02";
     EXPECT_GT(covered, surface * 9 / 10) << "three probes in an open room should see most of it";
     EXPECT_NEAR(pass.uncoveredFraction(), double(surface - covered) / double(gpu.size()), 0.01);
+}
+
+// A traced cache stored as BC4 (AO alone, green swizzled to one) renders exactly as the same probes
+// stored as BC5 with confidence 1, and as the BC4 cache held as BC5 (the viewer's way, converted on
+// upload), with half the AO atlas's bytes.
+TEST_F(GlTest, ABc4CacheRendersAsItsBc5Twin) {
+    test::TempDir dir;
+    const std::string bc4File = bakeThreeProbes(dir);
+    const std::string bc5File = (dir.path() / "c5.cubeao").string();
+    mergeCaches(bc5File, {bc4File}, {}, AoFormat::Bc5);
+    const CacheReader bc4(bc4File), bc5(bc5File);
+    ASSERT_EQ(bc4.params().aoFormat, AoFormat::Bc4) << "a traced bake stores BC4";
+    ASSERT_EQ(bc5.params().aoFormat, AoFormat::Bc5);
+
+    const Scene scene = loadScene("builtin:box-room");
+    ProbeProjectionSettings heldAsBc5;
+    heldAsBc5.aoFormat = AoFormat::Bc5;
+    std::size_t bytes4 = 0, bytes5 = 0, bytesHeld = 0;
+    const std::vector<float> a = projectFrame(scene, bc4, {}, &bytes4), b = projectFrame(scene, bc5, {}, &bytes5),
+                             c = projectFrame(scene, bc4, heldAsBc5, &bytesHeld);
+    std::size_t open = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        ASSERT_EQ(a[i], b[i]) << "pixel " << i;
+        ASSERT_EQ(a[i], c[i]) << "pixel " << i;
+        open += a[i] == 1.0f ? 1 : 0;
+    }
+    EXPECT_LT(open, a.size() / 2) << "the frame shows occlusion, not only open pixels";
+    const std::size_t aoAtlas5 = 3 * 6 * 16 * 16;  // three probes' BC5 texels, a byte each (atlas tiles may pad)
+    EXPECT_EQ(bytes5, bytesHeld);
+    EXPECT_LE(bytes4 + aoAtlas5 / 2, bytes5) << "BC4 holds the AO in half the bytes";
 }
 
 // ---- two probes, the camera walking from one to the other (issue 6) -----------------------------

@@ -239,10 +239,10 @@ TEST_F(GlTest, MovedSceneGivesTheSameReferenceProbesAndRender) {
                         1e-4);
     // The cache: local positions + the header's origin = the room's probes + the shift.
     const CacheReader cn(dir / "near/c.cubeao"), cf(dir / "far/c.cubeao");
-    // Traced and filtered by default: format 3 holds the origin either way (formats 1 and 2:
+    // Traced (BC4) and filtered by default: format 4 holds the origin either way (formats 1 and 2:
     // Georef.CacheHeaderCarriesTheOrigin).
-    EXPECT_EQ(cn.formatVersion(), 3u);
-    EXPECT_EQ(cf.formatVersion(), 3u);
+    EXPECT_EQ(cn.formatVersion(), 4u);
+    EXPECT_EQ(cf.formatVersion(), 4u);
     EXPECT_EQ(cn.params().origin, glm::vec3(0.0f));
     EXPECT_NE(cf.params().origin, glm::vec3(0.0f));
     ASSERT_EQ(cn.probeCount(), cf.probeCount());

@@ -89,6 +89,7 @@ CacheParams syntheticParams(const Scene& scene, int res) {
     p.depthRes = std::uint32_t(std::max(1, res / 4));
     p.depthFormat = DepthFormat::R16Unorm;
     p.estimator = 2;  // traced
+    p.aoFormat = defaultAoFormat(p.estimator);  // BC4, as a traced bake stores it
     p.spp = 16;
     p.radius = scene.defaultRadius();
     p.origin = glm::vec3(scene.origin);

@@ -266,6 +266,8 @@ void Viewer::loadInputs() {
 void Viewer::buildPipelines() {
     ProbeProjectionSettings settings;
     settings.residency = ResidencySettings::fromMib(o_.gpuBudgetMb, o_.uploadMb);
+    // Held as BC5 whatever the cache stores: live placement may add probes that carry a confidence.
+    settings.aoFormat = AoFormat::Bc5;
     // The cache's probes over GTAO; live placement without a cache starts from no probes (GTAO covers
     // what no probe sees yet); neither: GTAO.
     std::unique_ptr<AoPass> method =

@@ -24,7 +24,8 @@ Json bakeParamsJson(const CacheParams& p) {
                 {"denoise", p.denoise},
                 {"res", p.res},
                 {"depth_res", p.depthRes},
-                {"depth_format", depthFormatName(p.depthFormat)}};
+                {"depth_format", depthFormatName(p.depthFormat)},
+                {"ao_format", aoFormatName(p.aoFormat)}};
 }
 
 }  // namespace cubeao::cli

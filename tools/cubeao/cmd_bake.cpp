@@ -1,5 +1,6 @@
 // cubeao bake SCENE --probes probes.json --out CACHE.cubeao: AO of every probe's cube map (DESIGN.md
-// §4 "Bake"), compressed on the device that baked it (BC5 AO + confidence, a distance cube) and
+// §4 "Bake"), compressed on the device that baked it (BC5 AO + confidence, kept as BC4 AO alone for
+// traced caches, whose confidence is 1; a distance cube) and
 // written to the cache in batches (bake/bake_cache.h): an interrupted bake keeps what it wrote, and
 // running it again with the same parameters bakes only the probes still missing. The loop itself is
 // the library's (bake/bake_driver.h); this file parses flags and prints the report.
@@ -31,7 +32,7 @@ namespace fs = std::filesystem;
 
 struct BakeArgs {
     std::string scene, probes, out, dump, estimator = "traced", device = "gpu", falloff = "none", shard,
-                                          gbuffer = "layered", depthFormat = "r16unorm";
+                                          gbuffer = "layered", depthFormat = "r16unorm", ao;
     int res = 0, spp = 0, directions = 0, steps = 0, verifySpp = 0, depthRes = 0, denoise = -1;
     float radius = 0.0f, hybridThreshold = 0.0f;
     std::uint32_t seed = 0;
@@ -49,6 +50,7 @@ BakeSettings settingsFrom(const BakeArgs& a, const Scene& scene) {
     s.hybridThreshold = a.hybridThreshold;
     s.depthRes = a.depthRes;
     s.denoise = a.denoise;
+    if (!a.ao.empty()) s.aoFormat = parseAoFormat(a.ao);
     s.depthFormat = a.depthFormat == "r16unorm"   ? DepthFormat::R16Unorm
                     : a.depthFormat == "r16float" ? DepthFormat::R16Float
                     : a.depthFormat == "r32float"
@@ -70,7 +72,8 @@ nlohmann::json settingsJson(const BakeSettings& s) {
             {"hybrid_threshold", s.hybridThreshold},
             {"depth_res", s.depthRes},
             {"depth_format", depthFormatName(s.depthFormat)},
-            {"denoise", s.denoise}};
+            {"denoise", s.denoise},
+            {"ao_format", aoFormatName(*s.aoFormat)}};
 }
 
 nlohmann::json timingsJson(const BakeTimings& t) {
@@ -239,6 +242,7 @@ void addBake(CLI::App& app) {
                     "Edge-aware filter of traced AO, texels a side (default 1 for traced and hybrid, 0 = off)");
     cmd->add_option("--depth-res", a->depthRes, "Distance cube texels per side (default res/4)");
     cmd->add_option("--depth-format", a->depthFormat, "r16unorm | r16float | r32float")->capture_default_str();
+    cmd->add_option("--ao", a->ao, "Cached AO: bc4 (AO alone; traced's default) | bc5 (AO + confidence; the others')");
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
     cmd->callback([a] { run(*a); });
 }

@@ -10,6 +10,7 @@
 // manifest names; files of an earlier export into DIR are replaced one by one, each atomically.
 #include <cstdio>
 #include <deque>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -37,7 +38,7 @@ constexpr int kManifestVersion = 1;
 using Ordered = nlohmann::ordered_json;
 
 struct ExportArgs {
-    std::string cache, format = "dds", out, ao = "bc5", distance = "native";
+    std::string cache, format = "dds", out, ao, distance = "native";  // ao empty: the cache's
     bool json = false;
 };
 
@@ -145,7 +146,7 @@ void run(const ExportArgs& a) {
     // Command line first, before any file is opened.
     if (a.format != "dds" && a.format != "ktx2")
         throw UsageError("--format \"" + a.format + "\": expected dds or ktx2");
-    if (a.ao != "bc5" && a.ao != "bc4") throw UsageError("--ao \"" + a.ao + "\": expected bc5 or bc4");
+    const std::optional<AoFormat> asked = a.ao.empty() ? std::nullopt : std::optional(parseAoFormat(a.ao));
     if (a.distance != "native" && a.distance != "float")
         throw UsageError("--distance \"" + a.distance + "\": expected native or float");
     if (a.out.empty()) throw UsageError("--out: an output directory is required");
@@ -153,7 +154,8 @@ void run(const ExportArgs& a) {
     const CacheReader cache(a.cache);
     cache.verifyAll();  // never export damaged blocks; and the checksum the manifest quotes is then the file's
     const CacheParams& p = cache.params();
-    const TexelFormat aoFormat = a.ao == "bc4" ? TexelFormat::Bc4Unorm : TexelFormat::Bc5Unorm;
+    const AoFormat exported = asked.value_or(p.aoFormat);
+    const TexelFormat aoFormat = exported == AoFormat::Bc4 ? TexelFormat::Bc4Unorm : TexelFormat::Bc5Unorm;
     const bool floatDistance = a.distance == "float";
     const TexelFormat distanceFormat = floatDistance ? TexelFormat::R32Float : texport::texelFormatOf(p.depthFormat);
     const bool ktx2 = a.format == "ktx2";
@@ -177,10 +179,7 @@ void run(const ExportArgs& a) {
                                                                        v.maxDistance)));
         else
             staging.write(distanceName, file(distanceFormat, p.depthRes, v.depth));
-        if (aoFormat == TexelFormat::Bc4Unorm)
-            staging.write(aoName, file(aoFormat, p.res, texport::bc5RedBlocks(v.aoConfidence)));
-        else
-            staging.write(aoName, file(aoFormat, p.res, v.aoConfidence));
+        staging.write(aoName, file(aoFormat, p.res, convertAoSection(v.aoConfidence, p.res, v.aoFormat, exported)));
         // File coordinates in double (docs/FORMAT.md: position + origin), as probes.json has them.
         const glm::dvec3 pos = glm::dvec3(v.position) + glm::dvec3(p.origin);
         probes.push_back({{"id", v.index},
@@ -219,7 +218,7 @@ void addExport(CLI::App& app) {
     cmd->add_option("cache", a->cache, "Probe cache (.cubeao)")->required();
     cmd->add_option("--format", a->format, "dds (DX10 header) or ktx2")->capture_default_str();
     cmd->add_option("--out", a->out, "Output directory (created if missing)")->required();
-    cmd->add_option("--ao", a->ao, "bc5: AO + confidence as cached; bc4: AO only")->capture_default_str();
+    cmd->add_option("--ao", a->ao, "bc5: AO + confidence (1 for a BC4 cache); bc4: AO only (default: as cached)");
     cmd->add_option("--distance", a->distance,
                     "native: the cache's texels as they are (r16unorm: fraction of max_distance); "
                     "float: R32_FLOAT world units")

@@ -190,10 +190,11 @@ void cacheInfo(const InfoArgs& a) {
                         {"bytes_per_texel", cache.bytesPerTexel()},
                         {"file_bytes", cache.fileSize()}};
     j.update(bakeParamsJson(p));
-    std::printf("%s: probe cache, format %u, scene %s\n  probes     %zu\n  faces      %u² AO + confidence (BC5), "
+    const char* ao = p.aoFormat == AoFormat::Bc4 ? "AO alone (BC4, confidence 1)" : "AO + confidence (BC5)";
+    std::printf("%s: probe cache, format %u, scene %s\n  probes     %zu\n  faces      %u² %s, "
                 "%u² distance (%s)\n  estimator  %s, R = %g, falloff %s, spp %u, seed %u, %u directions × %u steps, denoise %u\n"
                 "  size       %llu bytes, %.4f bytes per AO texel\n",
-                a.target.c_str(), cache.formatVersion(), hashToString(p.sceneHash).c_str(), cache.probeCount(), p.res,
+                a.target.c_str(), cache.formatVersion(), hashToString(p.sceneHash).c_str(), cache.probeCount(), p.res, ao,
                 p.depthRes, depthFormatName(p.depthFormat), estimatorName(Estimator(p.estimator)), double(p.radius),
                 falloffName(Falloff(p.falloff)), p.spp, p.seed, p.directions, p.steps,
                 unsigned(p.denoise), (unsigned long long)cache.fileSize(), cache.bytesPerTexel());

@@ -1,11 +1,14 @@
-// cubeao merge OUT.cubeao IN.cubeao... [--probes probes.json [--shards N]]: one cache from caches baked in
-// shards (`bake --shard I/N`), written atomically (DESIGN.md §5). The inputs must share scene and bake
-// parameters and no probe may occur twice (cache/cache_file.h mergeCaches); OUT may be one of the inputs.
+// cubeao merge OUT.cubeao IN.cubeao... [--probes probes.json [--shards N]] [--ao bc4|bc5]: one cache from
+// caches baked in shards (`bake --shard I/N`), written atomically (DESIGN.md §5). The inputs must share
+// scene and bake parameters and no probe may occur twice (cache/cache_file.h mergeCaches); OUT may be
+// one of the inputs. The AO format alone may differ: OUT has --ao's (default: the first input's) and
+// the others are converted, so `merge OUT IN --ao bc4` turns a traced BC5 cache into BC4 (lossless).
 // With --probes the inputs must also hold exactly the probe set's probes, at its positions: a cluster bake
 // (tools/slurm/) merges whatever shards exist, and a shard that failed must end in a refusal naming what
 // is missing, not in a cache that quietly lacks probes.
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <set>
 
 #include "commands.h"
@@ -21,6 +24,7 @@ struct MergeArgs {
     std::string out;
     std::vector<std::string> inputs;
     std::string probes;
+    std::string ao;          // empty: the first input's AO format
     std::size_t shards = 0;  // 0: not given
     bool json = false;
 };
@@ -90,6 +94,7 @@ void checkComplete(const MergeArgs& a, const std::vector<CacheReader>& caches) {
 
 void run(const MergeArgs& a) {
     if (a.shards > 0 && a.probes.empty()) throw UsageError("merge: --shards needs --probes");
+    const std::optional<AoFormat> ao = a.ao.empty() ? std::nullopt : std::optional(parseAoFormat(a.ao));
     std::size_t total = 0;  // for the progress: the inputs' probes (headers only; checked again in the merge)
     {
         std::vector<CacheReader> caches;
@@ -103,16 +108,17 @@ void run(const MergeArgs& a) {
         Progress progress("merge", total, "probes");
         WriteOptions options;
         options.progress = &progress;
-        mergeCaches(a.out, std::vector<std::filesystem::path>(a.inputs.begin(), a.inputs.end()), options);
+        mergeCaches(a.out, std::vector<std::filesystem::path>(a.inputs.begin(), a.inputs.end()), options, ao);
     }
     const CacheReader merged(a.out);
-    std::printf("merge: %zu caches, %zu probes -> %s (%.4f bytes per texel)\n", a.inputs.size(), merged.probeCount(),
-                a.out.c_str(), merged.bytesPerTexel());
+    std::printf("merge: %zu caches, %zu probes -> %s (%s AO, %.4f bytes per texel)\n", a.inputs.size(),
+                merged.probeCount(), a.out.c_str(), aoFormatName(merged.params().aoFormat), merged.bytesPerTexel());
     if (a.json)
         printJson({{"probes", merged.probeCount()},
                    {"out", a.out},
                    {"inputs", a.inputs},
                    {"complete", !a.probes.empty()},
+                   {"ao_format", aoFormatName(merged.params().aoFormat)},
                    {"bytes_per_texel", merged.bytesPerTexel()},
                    {"file_bytes", merged.fileSize()}});
 }
@@ -130,6 +136,8 @@ void addMerge(CLI::App& app) {
     cmd->add_option("--shards", a->shards, "N of the shards' --shard I/N: a refusal also names the shards (I/N) "
                                            "with missing probes")
         ->check(CLI::PositiveNumber);
+    cmd->add_option("--ao", a->ao, "AO format of OUT: bc4 (AO alone; traced caches) | bc5 (AO + confidence); "
+                                   "inputs in the other are converted (default: the first input's)");
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
     cmd->callback([a] { run(*a); });
 }

@@ -50,8 +50,12 @@ std::vector<std::uint32_t> sameBakeIndices(const fs::path& file, const CachePara
     if (const auto d = cacheParamDifferences(cache->params(), params); !d.empty()) {
         std::string list;
         for (const auto& x : d) list += (list.empty() ? "" : ", ") + x;
+        // A traced cache of an earlier build holds BC5: resuming it is a matter of the format alone.
+        const bool formatOnly = d.size() == 1 && cache->params().aoFormat != params.aoFormat;
         throw Error(file.string() + ": exists with other bake parameters (cache vs this bake: " + list + "); " +
-                    kStartOver);
+                    (formatOnly ? std::string("--ao ") + aoFormatName(cache->params().aoFormat) +
+                                      " resumes it as it is (cubeao merge --ao converts it), or " + kStartOver
+                                : std::string(kStartOver)));
     }
     std::vector<std::uint32_t> indices;
     for (std::size_t i = 0; i < cache->probeCount(); ++i) {

@@ -46,6 +46,7 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius) {
     if (s.depthFormat == DepthFormat{}) s.depthFormat = depth::kDefaultFormat;
     if (s.denoise == -1)
         s.denoise = tracesRays(s.estimator) ? kernel::kAoDenoiseDefaultRadius : 0;
+    if (!s.aoFormat) s.aoFormat = defaultAoFormat(std::uint8_t(s.estimator));
 
     std::vector<std::string> problems;
     if (s.res < 4 || s.res > 4096 || s.res % 4 != 0)
@@ -66,6 +67,9 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius) {
     if (s.steps < 1 || s.steps > 64) problems.push_back("steps " + std::to_string(s.steps) + ": expected 1..64");
     if (!(s.hybridThreshold > 0.0f && s.hybridThreshold <= 1.0f))
         problems.push_back("hybrid threshold must lie in (0, 1]");
+    if (*s.aoFormat == AoFormat::Bc4 && s.estimator != Estimator::Traced)
+        problems.push_back(std::string("--ao bc4: AO alone suits traced caches, whose confidence is 1 everywhere; ") +
+                           estimatorName(s.estimator) + " estimates a confidence the projection ranks by: use bc5");
     if (!problems.empty()) {
         std::string message = "bad bake settings:";
         for (const auto& p : problems) message += "\n  " + p;
@@ -73,6 +77,10 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius) {
     }
     return s;
 }
+
+// The cache numbers estimators as Estimator does (defaultAoFormat and the BC4 check read 2 as traced).
+static_assert(int(Estimator::HorizonSplit) == 0 && int(Estimator::Gtao) == 1 && int(Estimator::Traced) == 2 &&
+              int(Estimator::Hybrid) == 3);
 
 CacheParams cacheParamsFor(const BakeSettings& s, std::uint64_t sceneHash) {
     const bool horizon = s.estimator != Estimator::Traced, rays = tracesRays(s.estimator);
@@ -90,6 +98,7 @@ CacheParams cacheParamsFor(const BakeSettings& s, std::uint64_t sceneHash) {
     p.directions = horizon ? std::uint32_t(s.directions) : 0;
     p.steps = horizon ? std::uint32_t(s.steps) : 0;
     p.hybridThreshold = s.estimator == Estimator::Hybrid ? s.hybridThreshold : 0.0f;
+    p.aoFormat = s.aoFormat.value_or(defaultAoFormat(p.estimator));
     return p;
 }
 

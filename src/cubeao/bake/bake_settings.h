@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "cubeao/cache/cache_file.h"
@@ -44,6 +45,8 @@ struct BakeSettings {
     DepthFormat depthFormat{};        // 0 → r16unorm (depth_cube.h: the measured choice)
     int denoise = -1;                 // edge-aware filter of traced AO, texels a side (common/ao_denoise.h);
                                       // -1 → kAoDenoiseDefaultRadius (1) for traced and hybrid, 0 = off
+    std::optional<AoFormat> aoFormat; // the cache's AO blocks; none → defaultAoFormat: BC4 for traced (its
+                                      // confidence is 1 everywhere), BC5 (AO + confidence) for the others
 };
 
 // Fills the zero fields with defaults (radius from `sceneDefaultRadius`) and checks ranges, listing

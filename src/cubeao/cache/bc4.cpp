@@ -92,4 +92,11 @@ bool decodeBc5Cube(const std::uint8_t* data, std::size_t size, int res, std::vec
     return true;
 }
 
+bool decodeAoCube(std::span<const std::uint8_t> section, int res, AoFormat format, std::vector<glm::vec2>& out) {
+    if (format == AoFormat::Bc5) return decodeBc5Cube(section.data(), section.size(), res, out);
+    if (format != AoFormat::Bc4 || !validRes(res) || section.size() != bc5Size(res) / 2) return false;
+    const std::vector<std::uint8_t> bc5 = convertAoSection(section, std::uint32_t(res), AoFormat::Bc4, AoFormat::Bc5);
+    return decodeBc5Cube(bc5.data(), bc5.size(), res, out);
+}
+
 }  // namespace cubeao::bc

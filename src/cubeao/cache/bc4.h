@@ -19,11 +19,13 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
 
 #include "common/bc4.h"
+#include "cubeao/cache/cache_file.h"
 
 namespace cubeao::bc {
 
@@ -57,5 +59,9 @@ std::vector<std::uint8_t> encodeBc5Cube(const std::vector<glm::vec2>& aoConfiden
 // neither data beyond `size` bytes nor out, when res is invalid or size != bc5Size(res). Any bytes of
 // the right size decode to values in [0, 1]: BC5 has no invalid blocks.
 bool decodeBc5Cube(const std::uint8_t* data, std::size_t size, int res, std::vector<glm::vec2>& out);
+
+// Decodes a cache's AO section in either format (CacheParams::aoFormat) as decodeBc5Cube does; a BC4
+// section decodes with confidence 1 in every texel, as the run time reads it. False as above.
+bool decodeAoCube(std::span<const std::uint8_t> section, int res, AoFormat format, std::vector<glm::vec2>& out);
 
 }  // namespace cubeao::bc

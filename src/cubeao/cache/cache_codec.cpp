@@ -23,7 +23,7 @@ std::array<std::uint8_t, kHeaderSize> encodeHeader(const CacheParams& p, std::ui
     std::memcpy(h.data() + hdr::magic, kMagic.data(), kMagic.size());
     const bool recentred = p.origin != glm::vec3(0.0f);
     // The oldest format that holds the file (cache_file.h).
-    put32(&h[hdr::version], p.denoise != 0 ? 3u : recentred ? 2u : 1u);
+    put32(&h[hdr::version], p.aoFormat != AoFormat::Bc5 ? 4u : p.denoise != 0 ? 3u : recentred ? 2u : 1u);
     put32(&h[hdr::headerSize], kHeaderSize);
     put64(&h[hdr::sceneHash], p.sceneHash);
     put32(&h[hdr::res], p.res);
@@ -46,6 +46,7 @@ std::array<std::uint8_t, kHeaderSize> encodeHeader(const CacheParams& p, std::ui
     put64(&h[hdr::tableChecksum], tableChecksum);
     if (recentred)
         for (int k = 0; k < 3; ++k) putF32(&h[hdr::origin + 4 * std::size_t(k)], p.origin[k]);
+    h[hdr::aoFormat] = std::uint8_t(p.aoFormat);  // reserved (0 = BC5) before format 4
     put64(&h[hdr::headerChecksum], XXH3_64bits(h.data(), hdr::headerChecksum));
     return h;
 }
@@ -61,6 +62,7 @@ CacheParams decodeParams(const std::uint8_t* h, std::uint32_t version) {
     p.estimator = h[hdr::estimator];
     p.falloff = h[hdr::falloff];
     if (version >= 3) p.denoise = h[hdr::denoise];
+    if (version >= 4) p.aoFormat = AoFormat(h[hdr::aoFormat]);
     p.spp = get32(h + hdr::spp);
     p.radius = getF32(h + hdr::radius);
     p.seed = get32(h + hdr::seed);
@@ -94,6 +96,63 @@ const char* depthFormatName(DepthFormat f) {
     return "?";
 }
 
+std::uint32_t aoBlockBytes(AoFormat f) {
+    switch (f) {
+        case AoFormat::Bc5: return 16;
+        case AoFormat::Bc4: return 8;
+    }
+    return 0;
+}
+
+const char* aoFormatName(AoFormat f) {
+    switch (f) {
+        case AoFormat::Bc5: return "bc5";
+        case AoFormat::Bc4: return "bc4";
+    }
+    return "?";
+}
+
+AoFormat parseAoFormat(const std::string& name, const std::string& option) {
+    if (name == "bc5") return AoFormat::Bc5;
+    if (name == "bc4") return AoFormat::Bc4;
+    throw UsageError(option + " \"" + name + "\": expected bc5 (AO + confidence) or bc4 (AO alone, traced caches)");
+}
+
+constexpr std::uint8_t kTracedEstimator = 2;  // Estimator::Traced (bake_settings.h), which the cache numbers alike
+
+AoFormat defaultAoFormat(std::uint8_t estimator) {
+    return estimator == kTracedEstimator ? AoFormat::Bc4 : AoFormat::Bc5;
+}
+
+std::vector<std::uint8_t> convertAoSection(std::span<const std::uint8_t> section, std::uint32_t res, AoFormat from,
+                                           AoFormat to) {
+    const std::uint64_t blocks = kFaces * std::uint64_t(res / 4) * (res / 4);
+    if (aoBlockBytes(from) == 0 || aoBlockBytes(to) == 0 || res % 4 != 0 || section.size() != blocks * aoBlockBytes(from))
+        throw Error("AO section of " + std::to_string(section.size()) + " bytes is not " + aoFormatName(from) +
+                    " at res " + std::to_string(res));
+    if (from == to) return {section.begin(), section.end()};
+    // Confidence 1 in every texel: red_0 = 255 > red_1 = 254, every 3-bit code 0 (= red_0), the block
+    // the encoder makes of sixteen ones (cache/bc4.h), so a traced bake's BC5 blocks come back exactly.
+    constexpr std::array<std::uint8_t, 8> kGreenOne{255, 254, 0, 0, 0, 0, 0, 0};
+    std::vector<std::uint8_t> out(blocks * aoBlockBytes(to));
+    for (std::uint64_t b = 0; b < blocks; ++b) {
+        if (to == AoFormat::Bc4) {
+            std::memcpy(&out[8 * b], &section[16 * b], 8);  // the red half
+        } else {
+            std::memcpy(&out[16 * b], &section[8 * b], 8);
+            std::memcpy(&out[16 * b + 8], kGreenOne.data(), 8);
+        }
+    }
+    return out;
+}
+
+ProbeRecord withAoFormat(ProbeRecord r, AoFormat to, std::uint32_t res) {
+    if (r.aoFormat == to) return r;
+    r.aoConfidence = convertAoSection(r.aoConfidence, res, r.aoFormat, to);
+    r.aoFormat = to;
+    return r;
+}
+
 std::vector<std::string> cacheParamProblems(const CacheParams& p) {
     std::vector<std::string> problems;
     if (p.res < 4 || p.res > kMaxRes || p.res % 4 != 0)
@@ -115,6 +174,11 @@ std::vector<std::string> cacheParamProblems(const CacheParams& p) {
         problems.push_back("hybrid threshold " + fmtFloat(p.hybridThreshold) + " is not finite");
     if (!std::isfinite(p.origin.x) || !std::isfinite(p.origin.y) || !std::isfinite(p.origin.z))
         problems.push_back("origin " + fmtVec(p.origin) + " is not finite");
+    if (aoBlockBytes(p.aoFormat) == 0)
+        problems.push_back("ao format " + std::to_string(unsigned(p.aoFormat)) + " is not bc5 (0) or bc4 (1)");
+    else if (p.aoFormat == AoFormat::Bc4 && p.estimator != kTracedEstimator)
+        problems.push_back("ao format bc4 holds no confidence: only traced caches (estimator 2) use it, not estimator " +
+                           std::to_string(p.estimator));
     return problems;
 }
 
@@ -140,12 +204,14 @@ std::vector<std::string> cacheParamDifferences(const CacheParams& a, const Cache
     if (a.hybridThreshold != b.hybridThreshold)
         d.push_back("hybrid threshold " + fmtFloat(a.hybridThreshold) + " vs " + fmtFloat(b.hybridThreshold));
     if (a.origin != b.origin) d.push_back("origin " + fmtVec(a.origin) + " vs " + fmtVec(b.origin));
+    if (a.aoFormat != b.aoFormat)
+        d.push_back(std::string("ao format ") + aoFormatName(a.aoFormat) + " vs " + aoFormatName(b.aoFormat));
     return d;
 }
 
 std::uint64_t aoSectionSize(const CacheParams& p) {
     const std::uint64_t blocks = std::uint64_t(p.res / 4) * (p.res / 4);
-    return kFaces * blocks * 16;  // BC5: one 16-byte block per 4×4 texels
+    return kFaces * blocks * aoBlockBytes(p.aoFormat);  // one block per 4×4 texels
 }
 
 std::uint64_t depthSectionSize(const CacheParams& p) {
@@ -156,6 +222,8 @@ std::uint64_t cacheFileSize(const CacheParams& p, std::uint64_t probes) {
     return kHeaderSize + probes * (kEntrySize + alignUp(aoSectionSize(p) + depthSectionSize(p))) + kTrailerSize;
 }
 
-ProbeView viewOf(const ProbeRecord& r) { return {r.index, r.position, r.maxDistance, r.aoConfidence, r.depth}; }
+ProbeView viewOf(const ProbeRecord& r) {
+    return {r.index, r.position, r.maxDistance, r.aoConfidence, r.depth, r.aoFormat};
+}
 
 }  // namespace cubeao

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -20,10 +21,11 @@ namespace cubeao {
 class Progress;
 
 // Newest format this build writes and reads (docs/FORMAT.md "Versioning"). Format 2 adds the scene's
-// origin (CacheParams::origin), format 3 the bake's AO filter (CacheParams::denoise). A cache is
-// written in the oldest format that holds it: one whose origin is 0 and whose AO is unfiltered is
-// still format 1, byte for byte what earlier builds wrote and can read.
-constexpr std::uint32_t kCacheFormatVersion = 3;
+// origin (CacheParams::origin), format 3 the bake's AO filter (CacheParams::denoise), format 4 the AO
+// section's format (CacheParams::aoFormat). A cache is written in the oldest format that holds it: one
+// whose origin is 0, whose AO is unfiltered and BC5 is still format 1, byte for byte what earlier
+// builds wrote and can read.
+constexpr std::uint32_t kCacheFormatVersion = 4;
 // The widest AO filter a header can name (bake_settings.h kMaxDenoiseRadius).
 constexpr std::uint32_t kMaxCacheDenoise = 8;
 // Every payload section starts at a multiple of this, so BC blocks and depth texels can be uploaded
@@ -39,6 +41,28 @@ enum class DepthFormat : std::uint8_t {
 };
 std::uint32_t depthBytesPerTexel(DepthFormat f);  // 2, 2, 4; 0 for a value outside the enum
 const char* depthFormatName(DepthFormat f);       // "r16unorm", "r16float", "r32float", "?"
+
+// Format of a probe's AO section (cache/bc4.h has the blocks and the cube layout). Values are what
+// the file stores (header byte 116, format 4).
+enum class AoFormat : std::uint8_t {
+    Bc5 = 0,  // AO in red, confidence in green: 16 bytes per 4×4 texels (1 byte per texel)
+    Bc4 = 1,  // AO alone, for caches whose confidence is 1 everywhere (traced): 8 bytes per 4×4 texels;
+              // read as confidence 1 (the run time's texture swizzles green to one)
+};
+std::uint32_t aoBlockBytes(AoFormat f);  // 16, 8; 0 for a value outside the enum
+const char* aoFormatName(AoFormat f);    // "bc5", "bc4", "?"
+// "bc5" or "bc4"; UsageError naming the choices otherwise (`option` names the flag in the message).
+AoFormat parseAoFormat(const std::string& name, const std::string& option = "--ao");
+// The format a bake with `estimator` (CacheParams numbering) stores by default: BC4 for traced, whose
+// confidence is 1 in every texel, BC5 for the estimators that estimate one (hsplit, gtao, hybrid).
+AoFormat defaultAoFormat(std::uint8_t estimator);
+
+// An AO section of `res`² faces in format `from` as format `to`, lossless for the AO: a BC5 block is
+// its red BC4 block followed by its green one, so BC4 is the first half of each BC5 block and BC5
+// from BC4 appends the green block of confidence 1 the encoder makes (FF FE 00 00 00 00 00 00). The same
+// bytes when from == to. Error when the size is not that of `from` at `res`.
+std::vector<std::uint8_t> convertAoSection(std::span<const std::uint8_t> section, std::uint32_t res, AoFormat from,
+                                           AoFormat to);
 
 // Everything a bake was made with; two caches can be merged or appended to only when these are
 // equal (operator==, bit for bit). Enum fields keep the bake's numbering so the CLI can cast:
@@ -57,6 +81,7 @@ struct CacheParams {
     std::uint32_t directions = 0;  // horizon directions N_d
     std::uint32_t steps = 0;       // march steps N_s
     float hybridThreshold = 0.0f;
+    AoFormat aoFormat = AoFormat::Bc5;  // the AO sections' blocks (format 4; BC5 before it)
     // File coordinates of the scene's local origin (Scene::origin: whole units rounded to float, so exact
     // here); probe positions in the table are local, file coordinates = position + origin. 0 for scenes
     // that were not re-centred (and for every format-1 file).
@@ -67,13 +92,14 @@ struct CacheParams {
 
 // Every range problem of `p` at once (empty: valid). Limits: res 4..16384 and a multiple of 4,
 // depthRes 1..16384, a known depth format, estimator ≤ 3, falloff ≤ 1, denoise ≤ 8, radius finite and > 0,
-// hybridThreshold finite, origin finite.
+// hybridThreshold finite, origin finite, a known AO format and BC4 only for traced (estimator 2): the
+// others' confidence would be lost.
 std::vector<std::string> cacheParamProblems(const CacheParams& p);
 // Fields that differ between `a` and `b`, "res 8 vs 16" style; empty when a == b.
 std::vector<std::string> cacheParamDifferences(const CacheParams& a, const CacheParams& b);
 
 // Section sizes every probe of a cache with these parameters has.
-// AO + confidence: 6 faces × (res/4)² BC5 blocks × 16 bytes = 6·res² bytes (1 byte per texel).
+// AO: 6 faces × (res/4)² blocks × aoBlockBytes: 6·res² bytes for BC5 (1 byte per texel), half for BC4.
 std::uint64_t aoSectionSize(const CacheParams& p);
 // Distance cube: 6 faces × depthRes² texels × depthBytesPerTexel.
 std::uint64_t depthSectionSize(const CacheParams& p);
@@ -86,9 +112,12 @@ struct ProbeRecord {
                                               // sample keys, and is unique within a cache
     glm::vec3 position{0.0f};
     float maxDistance = 0.0f;                 // scale of R16Unorm distances (world units)
-    std::vector<std::uint8_t> aoConfidence;   // aoSectionSize(params) bytes of BC5 blocks
+    std::vector<std::uint8_t> aoConfidence;   // the AO section in aoFormat (BC5: AO + confidence)
     std::vector<std::uint8_t> depth;          // depthSectionSize(params) bytes
+    AoFormat aoFormat = AoFormat::Bc5;        // what a bake makes; a reader gives its cache's
 };
+// `r` with its AO section in format `to` (convertAoSection; unchanged when it already is).
+ProbeRecord withAoFormat(ProbeRecord r, AoFormat to, std::uint32_t res);
 
 // One probe without copies: spans into a reader's mapping (valid while the reader lives) or into
 // the caller's buffers when writing.
@@ -96,8 +125,9 @@ struct ProbeView {
     std::uint32_t index = 0;
     glm::vec3 position{0.0f};
     float maxDistance = 0.0f;
-    std::span<const std::uint8_t> aoConfidence;
+    std::span<const std::uint8_t> aoConfidence;  // in aoFormat
     std::span<const std::uint8_t> depth;
+    AoFormat aoFormat = AoFormat::Bc5;
 };
 ProbeView viewOf(const ProbeRecord& r);
 
@@ -117,7 +147,8 @@ struct WriteOptions {
 
 // Writes `path` atomically through a DurableFile (core/durable_file.h): temporary file beside it,
 // fsync, rename, directory fsync. On any failure the temporary file is removed, `path` is left as it
-// was, and cubeao::Error names the file and what failed. Probe indices must be distinct.
+// was, and cubeao::Error names the file and what failed. Probe indices must be distinct. A probe whose
+// AO is in another format than params.aoFormat is converted as it is written (convertAoSection).
 void writeCache(const std::filesystem::path& path, const CacheParams& params, std::span<const ProbeView> probes,
                 const WriteOptions& options = {});
 void writeCache(const std::filesystem::path& path, const CacheParams& params, const std::vector<ProbeRecord>& probes,
@@ -226,8 +257,11 @@ void appendToCache(const std::filesystem::path& path, const CacheParams& params,
 // `cubeao merge OUT IN...`: the probes of every input, sorted by index (so shards merged in any order
 // give the file an unsharded bake writes), written atomically to `out`
 // (which may be one of the inputs). Inputs must share scene hash and parameters, and no position or
-// index may occur twice (the same probe baked in two shards); errors name the input file.
+// index may occur twice (the same probe baked in two shards); errors name the input file. The AO
+// format is the one parameter inputs may differ in: `out` is written in `aoFormat` (default: the
+// first input's) and every probe in another is converted (convertAoSection), so `merge OUT IN`
+// converts a cache (BC4 only for traced caches, as cacheParamProblems says).
 void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesystem::path>& inputs,
-                 const WriteOptions& options = {});
+                 const WriteOptions& options = {}, std::optional<AoFormat> aoFormat = {});
 
 }  // namespace cubeao

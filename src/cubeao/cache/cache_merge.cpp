@@ -11,6 +11,15 @@ namespace cubeao {
 
 using namespace cache_codec;
 
+namespace {
+
+CacheParams withAoFormatOf(CacheParams p, const CacheParams& of) {
+    p.aoFormat = of.aoFormat;
+    return p;
+}
+
+}  // namespace
+
 void appendToCache(const std::filesystem::path& path, const CacheParams& params, std::span<const ProbeView> newProbes,
                    const WriteOptions& options) {
     std::error_code ec;
@@ -63,14 +72,19 @@ void appendToCache(const std::filesystem::path& path, const CacheParams& params,
 }
 
 void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesystem::path>& inputs,
-                 const WriteOptions& options) {
+                 const WriteOptions& options, std::optional<AoFormat> aoFormat) {
     if (inputs.empty()) throw Error(out.string() + ": merge needs at least one input cache");
     std::vector<CacheReader> readers;
     readers.reserve(inputs.size());
     for (const auto& in : inputs) readers.emplace_back(in);
-    const CacheParams& params = readers.front().params();
+    // The output's parameters: the first input's, in the AO format asked for; each input's probes are
+    // converted to it as they are written (writeCache), so inputs may differ in that alone.
+    CacheParams params = readers.front().params();
+    params.aoFormat = aoFormat.value_or(params.aoFormat);
+    if (const auto problems = cacheParamProblems(params); !problems.empty())
+        throw Error(out.string() + ": cannot write " + aoFormatName(params.aoFormat) + " AO: " + join(problems, "; "));
     for (std::size_t k = 1; k < readers.size(); ++k)
-        if (const auto d = cacheParamDifferences(params, readers[k].params()); !d.empty())
+        if (const auto d = cacheParamDifferences(params, withAoFormatOf(readers[k].params(), params)); !d.empty())
             throw Error(inputs[k].string() + ": cannot merge with " + inputs[0].string() +
                         ", baked with other parameters (" + inputs[0].filename().string() + " vs this): " +
                         join(d, ", "));
@@ -79,7 +93,6 @@ void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesy
     std::map<PositionKey, std::pair<std::size_t, std::size_t>> seen;
     std::map<std::uint32_t, std::pair<std::size_t, std::size_t>> indices;
     std::vector<ProbeView> all;
-    const std::uint64_t probeBytes = aoSectionSize(params) + depthSectionSize(params);
     std::size_t k = 0;  // the input being read
     ReleasePacer pacer([&] { readers[k].releaseAll(); });
     for (; k < readers.size(); ++k)
@@ -94,7 +107,7 @@ void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesy
             if (const auto [it, fresh] = indices.emplace(readers[k].index(i), std::pair(k, i)); !fresh)
                 throw Error(probe + " has index " + std::to_string(readers[k].index(i)) + ", as " + other(it->second));
             all.push_back(readers[k].probe(i));  // checks the probe's checksum: reads its payload
-            pacer.read(probeBytes);
+            pacer.read(all.back().aoConfidence.size() + all.back().depth.size());
         }
     // Index order: shards merged in any order give the same file as one unsharded bake.
     std::stable_sort(all.begin(), all.end(), [](const ProbeView& x, const ProbeView& y) { return x.index < y.index; });

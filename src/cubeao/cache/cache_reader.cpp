@@ -112,7 +112,7 @@ void CacheReader::validate() {
     if (storedHeaderHash != headerHash)
         throw Error(where("header") + "checksum mismatch (stored " + hex64(storedHeaderHash) + ", computed " +
                     hex64(headerHash) + ")");
-    const std::size_t reservedFrom = version_ >= 2 ? hdr::reserved2 : hdr::reserved1;
+    const std::size_t reservedFrom = version_ >= 4 ? hdr::reserved3 : version_ >= 2 ? hdr::reserved2 : hdr::reserved1;
     if ((version_ < 3 && data_[hdr::reserved0] != 0) || !allZero(data_ + reservedFrom, hdr::headerChecksum - reservedFrom))
         throw Error(where("header") + "reserved bytes are not zero");
     params_ = decodeParams(data_, version_);
@@ -243,7 +243,12 @@ void CacheReader::checkProbe(std::size_t i) const {
 ProbeView CacheReader::probe(std::size_t i) const {
     const Entry& e = entry(i);
     checkProbe(i);
-    return {e.index, e.position, e.maxDistance, {data_ + e.aoOffset, e.aoSize}, {data_ + e.depthOffset, e.depthSize}};
+    return {e.index,
+            e.position,
+            e.maxDistance,
+            {data_ + e.aoOffset, e.aoSize},
+            {data_ + e.depthOffset, e.depthSize},
+            params_.aoFormat};
 }
 
 std::span<const std::uint8_t> CacheReader::unverifiedDepth(std::size_t i) const {
@@ -285,7 +290,7 @@ ProbeRecord CacheReader::copyProbe(std::size_t i) const {
     prefetch(i);  // one read of its pages, also after adviseRandomAccess
     const ProbeView v = probe(i);
     return {v.index, v.position, v.maxDistance, {v.aoConfidence.begin(), v.aoConfidence.end()},
-            {v.depth.begin(), v.depth.end()}};
+            {v.depth.begin(), v.depth.end()}, v.aoFormat};
 }
 
 void CacheReader::verifyAll() const {

@@ -49,22 +49,33 @@ private:
     std::vector<std::uint8_t> buffer_;
 };
 
+// A probe's AO section as the file stores it: its own bytes, or converted when the probe is in
+// another format than the cache (`converted` holds those bytes while they are used).
+std::span<const std::uint8_t> storedAo(const ProbeView& v, const CacheParams& params, std::vector<std::uint8_t>& converted) {
+    if (v.aoFormat == params.aoFormat) return v.aoConfidence;
+    converted = convertAoSection(v.aoConfidence, params.res, v.aoFormat, params.aoFormat);
+    return converted;
+}
+
 // Checks the probes' sizes against the parameters before a byte is written, listing every problem.
 void checkProbesToWrite(const std::filesystem::path& path, const CacheParams& params,
                         std::span<const ProbeView> probes) {
     std::vector<std::string> problems = cacheParamProblems(params);
     if (probes.size() > std::numeric_limits<std::uint32_t>::max())
         problems.push_back(std::to_string(probes.size()) + " probes, at most 2^32 - 1 fit the table");
-    const std::uint64_t aoSize = aoSectionSize(params), depthSize = depthSectionSize(params);
+    const std::uint64_t depthSize = depthSectionSize(params);
     std::map<std::uint32_t, std::size_t> indices;
     for (std::size_t i = 0; i < probes.size() && problems.size() < 16; ++i) {
         const ProbeView& v = probes[i];
         if (const auto [it, fresh] = indices.emplace(v.index, i); !fresh)
             problems.push_back(probeName(i) + ": index " + std::to_string(v.index) + " is also " +
                                probeName(it->second) + "'s");
-        if (v.aoConfidence.size() != aoSize)
-            problems.push_back(probeName(i) + ": AO section has " + std::to_string(v.aoConfidence.size()) +
-                               " bytes, res " + std::to_string(params.res) + " needs " + std::to_string(aoSize));
+        CacheParams own = params;  // the probe's AO may come in another format: converted on the way
+        own.aoFormat = v.aoFormat;
+        if (const std::uint64_t need = aoSectionSize(own); v.aoConfidence.size() != need || need == 0)
+            problems.push_back(probeName(i) + ": AO section has " + std::to_string(v.aoConfidence.size()) + " bytes, " +
+                               aoFormatName(v.aoFormat) + " at res " + std::to_string(params.res) + " needs " +
+                               std::to_string(need));
         if (v.depth.size() != depthSize)
             problems.push_back(probeName(i) + ": depth section has " + std::to_string(v.depth.size()) +
                                " bytes, depthRes " + std::to_string(params.depthRes) + " " +
@@ -92,6 +103,7 @@ void writeCache(const std::filesystem::path& path, const CacheParams& params, st
     // Probe checksums first (they live in the table, which precedes the payload): the payload is
     // read twice, which costs far less than the disk write.
     ReleasePacer pacer(options.releaseSources);
+    std::vector<std::uint8_t> converted;
     std::vector<std::uint8_t> table(kEntrySize * count);
     for (std::uint32_t i = 0; i < count; ++i) {
         std::uint8_t* e = table.data() + kEntrySize * i;
@@ -104,9 +116,9 @@ void writeCache(const std::filesystem::path& path, const CacheParams& params, st
         put32(e + ent::index, v.index);
         put64(e + ent::aoOffset, aoOffset);
         put64(e + ent::aoSize, aoSize);
-        put64(e + ent::depthOffset, aoOffset + aoSize);  // aoSize is a multiple of 16: no gap
+        put64(e + ent::depthOffset, aoOffset + aoSize);  // aoSize is a multiple of 16 (48 (res/4)² for BC4): no gap
         put64(e + ent::depthSize, depthSize);
-        put64(e + ent::checksum, hashProbe(v.aoConfidence, v.depth));
+        put64(e + ent::checksum, hashProbe(storedAo(v, params, converted), v.depth));
         pacer.read(aoSize + depthSize);
     }
     const auto header = encodeHeader(params, count, stride * count, XXH3_64bits(table.data(), table.size()));
@@ -117,7 +129,7 @@ void writeCache(const std::filesystem::path& path, const CacheParams& params, st
         sink.write(header);
         sink.write(table);
         for (const ProbeView& v : probes) {
-            sink.write(v.aoConfidence);
+            sink.write(storedAo(v, params, converted));
             sink.write(v.depth);
             sink.zeros(stride - aoSize - depthSize);
             if (options.progress) options.progress->advance();

@@ -16,7 +16,9 @@ std::vector<ProbeRecord> syntheticPayloads(const CacheParams& params, float maxD
         ProbeRecord p;
         p.index = std::uint32_t(k);
         p.maxDistance = maxDistance;
-        p.aoConfidence.resize(aoSectionSize(params));
+        CacheParams bc5 = params;  // made as BC5, then stored in the cache's format (BC4: the AO half)
+        bc5.aoFormat = AoFormat::Bc5;
+        p.aoConfidence.resize(aoSectionSize(bc5));
         for (std::size_t b = 0; b < p.aoConfidence.size(); b += 16) {
             std::uint8_t* block = p.aoConfidence.data() + b;
             for (int i = 0; i < 8; ++i) block[i] = std::uint8_t(rng());  // AO: random endpoints and codes
@@ -28,7 +30,7 @@ std::vector<ProbeRecord> syntheticPayloads(const CacheParams& params, float maxD
             const std::uint16_t v = std::uint16_t(60000 + rng() % 5536);
             p.depth[t] = std::uint8_t(v & 0xff), p.depth[t + 1] = std::uint8_t(v >> 8);
         }
-        out.push_back(std::move(p));
+        out.push_back(withAoFormat(std::move(p), params.aoFormat, params.res));
     }
     return out;
 }
@@ -40,7 +42,7 @@ std::vector<ProbeView> syntheticProbeViews(std::span<const glm::vec3> positions,
     out.reserve(positions.size());
     for (std::size_t i = 0; i < positions.size(); ++i) {
         const ProbeRecord& p = payloads[i % payloads.size()];
-        out.push_back({std::uint32_t(i), positions[i], p.maxDistance, p.aoConfidence, p.depth});
+        out.push_back({std::uint32_t(i), positions[i], p.maxDistance, p.aoConfidence, p.depth, p.aoFormat});
     }
     return out;
 }

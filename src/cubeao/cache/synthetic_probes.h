@@ -19,7 +19,8 @@
 
 namespace cubeao {
 
-// `count` distinct payloads for caches with `params` (r16unorm distances only: Error otherwise),
+// `count` distinct payloads for caches with `params` (r16unorm distances only: Error otherwise; the AO
+// in params.aoFormat),
 // deterministic for a seed. A cache of thousands of probes shares them round-robin, so writing a
 // 10,000-probe cache at 256² (4.4 GB) holds a few probes in memory, not all.
 std::vector<ProbeRecord> syntheticPayloads(const CacheParams& params, float maxDistance, std::size_t count,

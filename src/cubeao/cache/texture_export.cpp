@@ -76,14 +76,6 @@ std::size_t faceBytes(TexelFormat f, std::uint32_t res) {
 
 std::size_t cubeBytes(TexelFormat f, std::uint32_t res) { return 6 * faceBytes(f, res); }
 
-std::vector<std::uint8_t> bc5RedBlocks(std::span<const std::uint8_t> bc5) {
-    if (bc5.size() % 16 != 0)
-        throw std::invalid_argument("BC5 data of " + std::to_string(bc5.size()) + " bytes: not whole 16-byte blocks");
-    std::vector<std::uint8_t> out(bc5.size() / 2);
-    for (std::size_t b = 0; b < bc5.size() / 16; ++b) std::memcpy(&out[8 * b], &bc5[16 * b], 8);
-    return out;
-}
-
 std::vector<std::uint8_t> distancesAsFloat(std::span<const std::uint8_t> section, std::uint32_t depthRes,
                                            DepthFormat format, float maxDistance) {
     std::vector<float> d;

@@ -49,10 +49,6 @@ TexelFormat texelFormatOf(DepthFormat f);
 std::size_t faceBytes(TexelFormat f, std::uint32_t res);
 std::size_t cubeBytes(TexelFormat f, std::uint32_t res);
 
-// The red (AO) BC4 block of every BC5 block, in order: a BC5 block is its red BC4 block followed by
-// its green one (cache/bc4.h), so this is the BC4 cube of the same texels, bit for bit.
-std::vector<std::uint8_t> bc5RedBlocks(std::span<const std::uint8_t> bc5);
-
 // A cache's distance section as R32_FLOAT world units (depth::decodeTexel of every texel; 0 stays 0,
 // "nothing there"). Throws std::invalid_argument when the size does not match depthRes and format.
 std::vector<std::uint8_t> distancesAsFloat(std::span<const std::uint8_t> section, std::uint32_t depthRes,

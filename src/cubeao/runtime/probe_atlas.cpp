@@ -21,10 +21,12 @@ namespace {
 
 constexpr std::size_t kFeedbackRing = 3;  // feedback read 2 frames late at the latest
 constexpr std::size_t kStagingRegions = 2;
+constexpr std::size_t kStagingAlignment = 16;  // where each staging region starts
 constexpr std::size_t kDefaultUploadBytes = std::size_t(8) << 20;
 constexpr std::size_t kReleaseBytes = std::size_t(64) << 20;  // unbounded updates drop cache pages this often
 constexpr std::uint32_t kNoSlot = kernel::kNoSlot;
 
+GLenum aoInternalFormat(AoFormat f) { return f == AoFormat::Bc4 ? GL_COMPRESSED_RED_RGTC1 : GL_COMPRESSED_RG_RGTC2; }
 GLenum depthInternalFormat(DepthFormat f) {
     return f == DepthFormat::R16Unorm ? GL_R16 : f == DepthFormat::R16Float ? GL_R16F : GL_R32F;
 }
@@ -46,7 +48,7 @@ glm::ivec3 slotCorner(const ProbeAtlasLayout& l, SlotId slot, int size) {
 
 }  // namespace
 
-// ---- ProbeAtlas ------------------------------------------------------------------------------
+// ---- ProbeAtlas ----------------------------------------------------------------------------------
 
 std::size_t probeGpuBytes(const CacheParams& p) { return std::size_t(aoSectionSize(p) + depthSectionSize(p)); }
 
@@ -64,10 +66,15 @@ struct ProbeAtlas::Staging {
 };
 
 ProbeAtlas::ProbeAtlas(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings,
-                               std::size_t minSlots)
+                       std::size_t minSlots)
     : params_(source.params()), staging_(std::make_unique<Staging>()) {
     const std::size_t perProbe = probeGpuBytes(params_);
-    uploadBound_ = std::max(perProbe, settings.uploadBytesPerFrame ? settings.uploadBytesPerFrame : kDefaultUploadBytes);
+    // Whole multiples of 16 bytes, so every staging region starts where a texel may (GL refuses a PBO
+    // offset that is not a multiple of the texel type's size: `--upload-mb 0.01`'s 10,485 bytes put the
+    // second region's 16-bit distances at odd addresses).
+    const std::size_t bound =
+        std::max(perProbe, settings.uploadBytesPerFrame ? settings.uploadBytesPerFrame : kDefaultUploadBytes);
+    uploadBound_ = (bound + kStagingAlignment - 1) / kStagingAlignment * kStagingAlignment;
     const std::size_t n = std::max<std::size_t>(source.size(), 1);
     const std::size_t stagingBytes = kStagingRegions * uploadBound_;
     // (feedback: the pass's demand counts, and a mapped ring of them, each entry padded to the binding
@@ -104,7 +111,10 @@ void ProbeAtlas::allocateAtlas(const ResidencyPool& pool) {
     atlasBytes_ = pool.atlasBytes;
     const auto layers = GLsizei(6 * atlas_.pages);
     ao_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(ao_.id(), 1, GL_COMPRESSED_RG_RGTC2, atlas_.tilesX * res, atlas_.tilesY * res, layers);
+    glTextureStorage3D(ao_.id(), 1, aoInternalFormat(params_.aoFormat), atlas_.tilesX * res, atlas_.tilesY * res, layers);
+    // BC4 holds AO alone (traced caches, confidence 1): green reads as one, so project.comp's .rg is
+    // (AO, confidence) for either format.
+    if (params_.aoFormat == AoFormat::Bc4) glTextureParameteri(ao_.id(), GL_TEXTURE_SWIZZLE_G, GL_ONE);
     distance_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
     glTextureStorage3D(distance_.id(), 1, depthInternalFormat(params_.depthFormat), atlas_.tilesX * depthRes,
                        atlas_.tilesY * depthRes, layers);
@@ -160,8 +170,7 @@ void ProbeAtlas::writeEntry(ProbeId id, const ProbeSource& source) {
 
 void ProbeAtlas::syncProbes(const ProbeSource& source) {
     const std::size_t before = planner_.probes();
-    std::size_t live = 0;
-    for (std::uint32_t i = 0; i < source.size(); ++i) live += source.isLive(ProbeId{i}) ? 1 : 0;
+    const std::size_t live = source.probes().liveCount();
     if (unlimited_ && live > slots() && table_.id() != 0) growAtlas(live, source);
     ensureCapacity(source.size());
     stats_.gpuBytes = atlasBytes_ + kStagingRegions * uploadBound_ + capacity_ * sizeof(kernel::ProbeEntry) +
@@ -198,7 +207,7 @@ void ProbeAtlas::upload(const ProbeView& p, SlotId slot, bool direct) {
             ring.write(region, stats_.frameUploadBytes + p.aoConfidence.size(), std::as_bytes(p.depth)));
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, ring.buffer());
     }
-    glCompressedTextureSubImage3D(ao_.id(), 0, a.x, a.y, a.z, res, res, 6, GL_COMPRESSED_RG_RGTC2,
+    glCompressedTextureSubImage3D(ao_.id(), 0, a.x, a.y, a.z, res, res, 6, aoInternalFormat(params_.aoFormat),
                                   GLsizei(p.aoConfidence.size()), ao);
     glTextureSubImage3D(distance_.id(), 0, d.x, d.y, d.z, depthRes, depthRes, 6, GL_RED, depthType(params_.depthFormat),
                         depth);
@@ -278,8 +287,9 @@ std::size_t glTextureBytes(GLuint texture) {
     glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_HEIGHT, &h);
     glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_DEPTH, &layers);
     glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
-    const std::size_t texelBytes = format == GL_COMPRESSED_RG_RGTC2 ? 1 : format == GL_R32F ? 4 : 2;
-    return std::size_t(w) * std::size_t(h) * std::size_t(layers) * texelBytes;
+    const std::size_t texels = std::size_t(w) * std::size_t(h) * std::size_t(layers);
+    if (format == GL_COMPRESSED_RED_RGTC1) return texels / 2;
+    return texels * (format == GL_COMPRESSED_RG_RGTC2 ? 1 : format == GL_R32F ? 4 : 2);
 }
 
 }  // namespace

@@ -1,8 +1,9 @@
-// The probe atlas: which probes are on the GPU (DESIGN.md §4 "Run time that grows"): a fixed pool of atlas slots sized
-// from a GPU memory budget, filled from the probes' stored bytes (BC5 AO + confidence, the distance
-// cube in its stored format: compressed all the way, no decode on the CPU) by a priority the caller
-// computes each frame, at most a fixed number of bytes per frame, through a persistently mapped
-// staging ring, so a frame never waits for the disk or for the GPU.
+// The probe atlas: which probes are on the GPU (DESIGN.md §4 "Run time that grows"), a fixed pool
+// of atlas slots sized from a GPU memory budget, filled from the probes' stored bytes (BC5 AO +
+// confidence, or BC4 AO read with confidence 1; the distance cube in its stored format: compressed
+// all the way, no decode on the CPU) by a priority the caller computes each frame, at most a fixed
+// number of bytes per frame, through a persistently mapped staging ring, so a frame never waits for
+// the disk or for the GPU.
 //
 // Eviction: when a wanted probe needs a slot, the victim is a resident probe that is not wanted, the
 // one the pixels used least recently first (sampled feedback of shaders/runtime/project.comp, read
@@ -58,7 +59,8 @@ struct ResidencyStats {
 // GL_BUFFER_SIZE of a buffer, as the driver reports it.
 std::size_t glBufferBytes(GLuint buffer);
 
-// One probe's bytes on the GPU: 6 res² of BC5 + 6 depthRes² distance texels.
+// One probe's bytes on the GPU: its AO section (6 res² bytes of BC5, half that of BC4) and its
+// 6 depthRes² distance texels.
 std::size_t probeGpuBytes(const CacheParams& params);
 
 class ProbeAtlas {
@@ -68,7 +70,7 @@ public:
     // context.
     // Without a budget the pool starts with room for max(the source's probes, minSlots) and grows.
     ProbeAtlas(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings,
-                   std::size_t minSlots = 0);
+               std::size_t minSlots = 0);
     ~ProbeAtlas();
 
     // Slots in the pool. Without a budget the pool holds every live probe and grows (the atlas is

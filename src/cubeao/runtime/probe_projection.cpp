@@ -62,12 +62,19 @@ const CacheReader& nonEmpty(const CacheReader& cache) {
     return cache;
 }
 
+// The cache's parameters with the AO format the pass holds its probes in (ProbeProjectionSettings).
+CacheParams paramsHeldAs(CacheParams p, std::optional<AoFormat> format) {
+    p.aoFormat = format.value_or(p.aoFormat);
+    return p;
+}
+
 }  // namespace
 
 ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, std::span<const glm::vec3> positions,
                                          std::span<const std::uint32_t> indices,
                                          const ProbeProjectionSettings& settings)
-    : ProbeProjectionPass(&nonEmpty(cache), cache.params(), positions, indices, settings, cache.probeCount()) {}
+    : ProbeProjectionPass(&nonEmpty(cache), paramsHeldAs(cache.params(), settings.aoFormat), positions, indices,
+                          settings, cache.probeCount()) {}
 
 ProbeProjectionPass::ProbeProjectionPass(const CacheParams& params, std::span<const glm::vec3> positions,
                                          std::span<const std::uint32_t> indices,

@@ -39,6 +39,10 @@ struct ProbeProjectionSettings {
     // tries the residentCandidates resident probes nearest its coarse cell (cells of 2 grid cells at
     // least) before the screen-space fallback; 0 = no second list.
     int residentCandidates = 8;
+    // The AO format the pass holds a cache's probes in; none: the cache's own. A viewer asks for BC5
+    // so that probes baked while it runs (live placement's horizon probes carry a confidence) can join
+    // a traced cache stored as BC4 (its probes are then converted as they load: confidence 1).
+    std::optional<AoFormat> aoFormat;
 };
 
 class ProbeProjectionPass : public AoPass {

@@ -25,6 +25,12 @@ float ProbeSource::distanceScale(ProbeId id) const {
 }
 
 ProbeId ProbeSource::add(ProbeRecord record) {
+    if (record.aoFormat != params_.aoFormat) {
+        CacheParams own = params_;
+        own.aoFormat = record.aoFormat;
+        if (record.aoConfidence.size() == aoSectionSize(own))
+            record = withAoFormat(std::move(record), params_.aoFormat, params_.res);
+    }
     if (record.aoConfidence.size() != aoSectionSize(params_) || record.depth.size() != depthSectionSize(params_))
         throw Error("probe " + std::to_string(record.index) + ": " + std::to_string(record.aoConfidence.size()) +
                     " AO and " + std::to_string(record.depth.size()) + " distance bytes; this probe set needs " +
@@ -45,7 +51,13 @@ void ProbeSource::remove(ProbeId id) {
 ProbeView ProbeSource::view(ProbeId id) const {
     const Probe& p = probes_[index(id)];
     if (p.added) return viewOf(*p.added);
-    return cache_->probe(index(id));
+    ProbeView v = cache_->probe(index(id));
+    if (v.aoFormat != params_.aoFormat) {
+        convertedAo_ = convertAoSection(v.aoConfidence, params_.res, v.aoFormat, params_.aoFormat);
+        v.aoConfidence = convertedAo_;
+        v.aoFormat = params_.aoFormat;
+    }
+    return v;
 }
 
 void ProbeSource::prefetch(ProbeId id) const {

@@ -20,7 +20,10 @@ namespace cubeao {
 // time. Removed probes keep their id. Which are live, and where each is, is the ProbeSet it holds.
 class ProbeSource {
 public:
-    ProbeSource(const CacheReader* cache, const CacheParams& params);  // cache may be null: start empty
+    // cache may be null: start empty. `params` are the cache's, except that the AO format may differ
+    // (a viewer holds a BC4 cache as BC5 so live placement's probes, which carry confidence, can join):
+    // then view() converts each cache probe's AO (convertAoSection).
+    ProbeSource(const CacheReader* cache, const CacheParams& params);
 
     const CacheParams& params() const { return params_; }
     const ProbeSet& probes() const { return set_; }
@@ -30,11 +33,14 @@ public:
     // Multiplies a stored distance texel into world units on the GPU (r16unorm: maxDistance; floats: 1).
     float distanceScale(ProbeId id) const;
 
-    // A record with the cache's section sizes (Error otherwise, naming them); returns its id.
+    // A record with the cache's section sizes (Error otherwise, naming them), its AO converted to
+    // params().aoFormat when it is in the other one; returns its id.
     ProbeId add(ProbeRecord record);
     void remove(ProbeId id);  // Error for an unknown or removed id
 
-    // The stored bytes (a cache probe's checksum is checked on first use).
+    // The stored bytes in params().aoFormat (a cache probe's checksum is checked on first use). A
+    // cache probe converted to another AO format points into a buffer of this source, valid until the
+    // next view().
     ProbeView view(ProbeId id) const;
     void prefetch(ProbeId id) const;       // page hint for a cache probe; nothing for added ones
     void prefetchDepth(ProbeId id) const;  // the same for its distance section alone
@@ -54,6 +60,7 @@ private:
     CacheParams params_;
     ProbeSet set_;
     std::vector<Probe> probes_;  // by id, beside set_
+    mutable std::vector<std::uint8_t> convertedAo_;  // view()'s AO of a cache probe in another format
 };
 
 }  // namespace cubeao
