@@ -20,6 +20,8 @@ using cubeao::ResidencyBudget;
 using cubeao::ResidencyHysteresis;
 using cubeao::ResidencyPlanner;
 using cubeao::residencyPool;
+using cubeao::ResidencyPool;
+using cubeao::stagingRegionBytes;
 using cubeao::SlotId;
 using Load = ResidencyPlanner::Load;
 constexpr std::size_t kProbe = 1000;  // bytes a probe
@@ -107,6 +109,36 @@ TEST(ResidencyPlanner, ABudgetBelowOneProbeNamesTheLeastThatHoldsOne) {
     }
     b.budgetBytes = 4 << 20;
     EXPECT_EQ(residencyPool(b).slots, 1u);
+}
+
+// The staging (two regions of a frame's uploads) shrinks with the pool: a frame never loads more
+// probes than there are slots, so a region holds min(uploadBytes, slots · probeBytes). Under a small
+// budget each slot then costs three probes' bytes (its tile and its share of two regions) instead of
+// the full regions standing beside one probe.
+TEST(ResidencyPlanner, TheStagingShrinksWithThePool) {
+    ResidencyBudget b;
+    b.fixedBytes = 5000, b.probeBytes = kProbe, b.probes = 100, b.res = 64, b.maxTextureSize = 16384, b.maxLayers = 2048;
+    b.uploadBytes = 8 * kProbe, b.stagingRegions = 2;
+    b.budgetBytes = 5000 + 12 * kProbe;  // full regions (16 probes' bytes) would not leave room for one
+    ResidencyPool pool = residencyPool(b);
+    EXPECT_EQ(pool.slots, 4u);  // 4 tiles + 2 × 4 staged: 12
+    EXPECT_EQ(pool.uploadBound, 4 * kProbe);
+    EXPECT_EQ(pool.stagingBytes, 2 * stagingRegionBytes(4 * kProbe));
+    EXPECT_LE(5000 + pool.atlasBytes + pool.stagingBytes, b.budgetBytes);
+    b.budgetBytes = 5000 + 100 * kProbe;  // the regions reach uploadBytes: 81 tiles (9 × 9) + 16
+    pool = residencyPool(b);
+    EXPECT_EQ(pool.slots, 81u);
+    EXPECT_EQ(pool.uploadBound, 8 * kProbe);
+    EXPECT_LE(5000 + pool.atlasBytes + pool.stagingBytes, b.budgetBytes);
+    EXPECT_EQ(stagingRegionBytes(10485), 10496u) << "regions start at multiples of 16 bytes";
+    // The least budget: one tile and two regions of one probe.
+    b.budgetBytes = 5000 + kProbe + 2 * stagingRegionBytes(kProbe) - 1;
+    EXPECT_THROW(residencyPool(b), cubeao::Error);
+    b.budgetBytes += 1;
+    EXPECT_EQ(residencyPool(b).slots, 1u);
+    // Without a budget the regions hold what the probes there are can fill.
+    b.budgetBytes = 0, b.probes = 3;
+    EXPECT_EQ(residencyPool(b).uploadBound, 3 * kProbe);
 }
 
 TEST(ResidencyPlanner, EachFrameLoadsAtMostTheUploadBoundAndReadsAheadWhatComesNext) {

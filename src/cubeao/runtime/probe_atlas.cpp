@@ -21,7 +21,6 @@ namespace {
 
 constexpr std::size_t kFeedbackRing = 3;  // feedback read 2 frames late at the latest
 constexpr std::size_t kStagingRegions = 2;
-constexpr std::size_t kStagingAlignment = 16;  // where each staging region starts
 constexpr std::size_t kDefaultUploadBytes = std::size_t(8) << 20;
 constexpr std::size_t kReleaseBytes = std::size_t(64) << 20;  // unbounded updates drop cache pages this often
 constexpr std::uint32_t kNoSlot = kernel::kNoSlot;
@@ -69,33 +68,34 @@ ProbeAtlas::ProbeAtlas(const ProbeSource& source, std::size_t fixedBytes, const 
                        std::size_t minSlots)
     : params_(source.params()), staging_(std::make_unique<Staging>()) {
     const std::size_t perProbe = probeGpuBytes(params_);
-    // Whole multiples of 16 bytes, so every staging region starts where a texel may (GL refuses a PBO
-    // offset that is not a multiple of the texel type's size: `--upload-mb 0.01`'s 10,485 bytes put the
-    // second region's 16-bit distances at odd addresses).
-    const std::size_t bound =
-        std::max(perProbe, settings.uploadBytesPerFrame ? settings.uploadBytesPerFrame : kDefaultUploadBytes);
-    uploadBound_ = (bound + kStagingAlignment - 1) / kStagingAlignment * kStagingAlignment;
     const std::size_t n = std::max<std::size_t>(source.size(), 1);
-    const std::size_t stagingBytes = kStagingRegions * uploadBound_;
     // (feedback: the pass's demand counts, and a mapped ring of them, each entry padded to the binding
     // alignment, at most 256 bytes)
     const std::size_t tableBytes =
         n * sizeof(kernel::ProbeEntry) + feedbackWords(n) * 4 + kFeedbackRing * (feedbackWords(n) * 4 + 256);
     unlimited_ = settings.gpuBudgetBytes == 0;
-    const ResidencyPool pool = poolFor(settings.gpuBudgetBytes, fixedBytes + stagingBytes + tableBytes,
-                                       unlimited_ ? std::max(n, minSlots) : n);
+    const ResidencyPool pool = poolFor(settings.gpuBudgetBytes, fixedBytes + tableBytes,
+                                       unlimited_ ? std::max(n, minSlots) : n,
+                                       settings.uploadBytesPerFrame ? settings.uploadBytesPerFrame : kDefaultUploadBytes);
+    uploadBound_ = pool.uploadBound;
     planner_ = ResidencyPlanner(pool.slots, perProbe, uploadBound_);
     allocateAtlas(pool);
-    staging_->upload = gl::UploadRing(kStagingRegions, uploadBound_);
+    // Under a budget the staging is part of what the budget holds: made now. Without one, the first
+    // frame loads every probe straight from the source and the staging holds nothing until a probe
+    // comes later (added, or loaded after a cut): made then (ensureStaging).
+    if (!unlimited_) ensureStaging();
     syncProbes(source);
 }
 
-ResidencyPool ProbeAtlas::poolFor(std::size_t budgetBytes, std::size_t fixedBytes, std::size_t probes) const {
+ResidencyPool ProbeAtlas::poolFor(std::size_t budgetBytes, std::size_t fixedBytes, std::size_t probes,
+                                  std::size_t uploadBytes) const {
     ResidencyBudget budget;
     budget.budgetBytes = budgetBytes;
     budget.fixedBytes = fixedBytes;
     budget.probeBytes = probeGpuBytes(params_);
     budget.probes = probes;
+    budget.uploadBytes = uploadBytes;
+    budget.stagingRegions = kStagingRegions;
     budget.res = int(params_.res);
     budget.maxTextureSize = glInteger(GL_MAX_TEXTURE_SIZE);
     budget.maxLayers = glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS);
@@ -125,7 +125,7 @@ void ProbeAtlas::allocateAtlas(const ResidencyPool& pool) {
 void ProbeAtlas::growAtlas(std::size_t slots, const ProbeSource& source) {
     const ProbeAtlasLayout old = atlas_;
     gl::Texture oldAo = std::move(ao_), oldDistance = std::move(distance_);
-    const ResidencyPool pool = poolFor(0, 0, std::max(slots, 2 * planner_.slots()));  // no budget: exactly these
+    const ResidencyPool pool = poolFor(0, 0, std::max(slots, 2 * planner_.slots()), 0);  // no budget: exactly these
     allocateAtlas(pool);
     planner_.growSlots(pool.slots);
     for (std::uint32_t i = 0; i < planner_.slots(); ++i) {
@@ -157,6 +157,18 @@ void ProbeAtlas::ensureCapacity(std::size_t probes) {
     glNamedBufferStorage(staging_->demand.id(), GLsizeiptr(staging_->words * 4), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
+// What allocateAtlas, ensureCapacity and ensureStaging hold now.
+void ProbeAtlas::updateGpuBytes() {
+    stats_.gpuBytes = atlasBytes_ + staging_->upload.bytes() + capacity_ * sizeof(kernel::ProbeEntry) +
+                      staging_->feedback.bytes() + staging_->words * 4;
+}
+
+void ProbeAtlas::ensureStaging() {
+    if (staging_->upload.buffer() != 0) return;
+    staging_->upload = gl::UploadRing(kStagingRegions, stagingRegionBytes(uploadBound_));
+    updateGpuBytes();
+}
+
 void ProbeAtlas::writeEntry(ProbeId id, const ProbeSource& source) {
     kernel::ProbeEntry e{};
     e.position = source.position(id);
@@ -173,8 +185,7 @@ void ProbeAtlas::syncProbes(const ProbeSource& source) {
     const std::size_t live = source.probes().liveCount();
     if (unlimited_ && live > slots() && table_.id() != 0) growAtlas(live, source);
     ensureCapacity(source.size());
-    stats_.gpuBytes = atlasBytes_ + kStagingRegions * uploadBound_ + capacity_ * sizeof(kernel::ProbeEntry) +
-                      staging_->feedback.bytes() + staging_->words * 4;  // what allocateAtlas and ensureCapacity hold now
+    updateGpuBytes();
     planner_.resizeProbes(source.size());
     if (source.size() > before) {  // new ids: one write of the whole range
         std::vector<kernel::ProbeEntry> entries(source.size() - before);
@@ -200,6 +211,7 @@ void ProbeAtlas::upload(const ProbeView& p, SlotId slot, bool direct) {
     const void* ao = p.aoConfidence.data();
     const void* depth = p.depth.data();
     if (!direct) {  // through this frame's staging region: the copy returns before the GPU reads it
+        ensureStaging();
         const std::size_t region = std::size_t(frame() % std::int64_t(kStagingRegions));
         gl::UploadRing& ring = staging_->upload;
         ao = reinterpret_cast<const void*>(ring.write(region, stats_.frameUploadBytes, std::as_bytes(p.aoConfidence)));
@@ -221,7 +233,8 @@ void ProbeAtlas::update(const ProbeSource& source, std::span<const ProbeId> want
     readFeedback();
     stats_.frameUploads = 0, stats_.frameUploadBytes = 0;
     const std::size_t region = std::size_t(frame() % std::int64_t(kStagingRegions));
-    if (!unbounded && !staging_->upload.writable(region)) {  // (unbounded uploads go straight from the source's memory)
+    // (unbounded uploads go straight from the source's memory; a staging not made yet is free)
+    if (!unbounded && staging_->upload.buffer() != 0 && !staging_->upload.writable(region)) {
         stats_.frameUploadMs = 0.0;  // the GPU still reads this region: load nothing this frame
         return;
     }

@@ -35,7 +35,8 @@ struct ResidencySettings {
     // GPU bytes for everything the projection allocates (atlases, staging ring, probe table, candidate
     // grid, feedback); 0 = room for every probe of the source at the start.
     std::size_t gpuBudgetBytes = 0;
-    // Bytes uploaded per frame at most; 0 → 8 MiB. At least one probe's bytes.
+    // Bytes uploaded per frame at most; 0 → 8 MiB. At least one probe's bytes, and no more than the
+    // pool's slots hold (the staging, two regions of this, is sized by what it can hold).
     std::size_t uploadBytesPerFrame = 0;
 
     // From MiB, as `render`, `bench render`, cubeao-gpubench and cubeao-view take them (--gpu-budget-mb,
@@ -68,7 +69,9 @@ public:
     // `fixedBytes`: what the caller allocates besides (grid, counters), counted against the budget.
     // Error when the budget cannot hold one probe, naming what it can hold. Needs a current GL 4.5
     // context.
-    // Without a budget the pool starts with room for max(the source's probes, minSlots) and grows.
+    // Without a budget the pool starts with room for max(the source's probes, minSlots) and grows, and
+    // the staging ring is made when the first upload needs it (the first frame loads every probe
+    // straight from the source).
     ProbeAtlas(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings,
                std::size_t minSlots = 0);
     ~ProbeAtlas();
@@ -122,10 +125,13 @@ private:
     struct Staging;
     void ensureCapacity(std::size_t probes);
     // The pool for `probes` within `budgetBytes` beside `fixedBytes` (0: exactly that many slots), at
-    // this GL's texture limits.
-    ResidencyPool poolFor(std::size_t budgetBytes, std::size_t fixedBytes, std::size_t probes) const;
+    // this GL's texture limits, a frame uploading at most `uploadBytes` (residency_planner.h).
+    ResidencyPool poolFor(std::size_t budgetBytes, std::size_t fixedBytes, std::size_t probes,
+                          std::size_t uploadBytes) const;
     void allocateAtlas(const ResidencyPool& pool);
     void growAtlas(std::size_t slots, const ProbeSource& source);
+    void ensureStaging();  // the upload ring, made on first need
+    void updateGpuBytes();
     void writeEntry(ProbeId id, const ProbeSource& source);
     void readFeedback();
     void upload(const ProbeView& bytes, SlotId slot, bool direct);

@@ -37,26 +37,44 @@ ProbeAtlasLayout probeAtlasLayout(std::size_t slots, int res, int maxTextureSize
     return {int(x), int(y), int(pages)};
 }
 
+std::size_t stagingRegionBytes(std::size_t uploadBound) { return (uploadBound + 15) / 16 * 16; }
+
 ResidencyPool residencyPool(const ResidencyBudget& b) {
     const auto layout = [&](std::size_t slots) { return probeAtlasLayout(slots, b.res, b.maxTextureSize, b.maxLayers); };
-    ResidencyPool pool;
+    const std::size_t p = std::max<std::size_t>(b.probeBytes, 1);
+    const auto bound = [&](std::size_t slots) { return std::max(p, std::min(b.uploadBytes, slots * p)); };
+    const auto staging = [&](std::size_t slots) { return b.stagingRegions * stagingRegionBytes(bound(slots)); };
+    const auto finish = [&](ProbeAtlasLayout atlas, std::size_t slots) {
+        ResidencyPool pool;
+        pool.atlas = atlas;
+        pool.slots = slots;
+        pool.atlasBytes = slots * b.probeBytes;
+        pool.uploadBound = bound(slots);
+        pool.stagingBytes = staging(slots);
+        return pool;
+    };
     if (b.budgetBytes == 0) {  // exactly the probes, growing with them
-        pool.slots = std::max<std::size_t>(b.probes, 1);
-        pool.atlas = layout(pool.slots);
-        pool.atlasBytes = pool.atlas.tiles() * b.probeBytes;
+        const std::size_t slots = std::max<std::size_t>(b.probes, 1);
+        const ProbeAtlasLayout atlas = layout(slots);
+        ResidencyPool pool = finish(atlas, slots);
+        pool.atlasBytes = atlas.tiles() * b.probeBytes;
         return pool;
     }
-    if (b.budgetBytes < b.fixedBytes + b.probeBytes)
+    const std::size_t least = b.fixedBytes + staging(1) + b.probeBytes;
+    if (b.budgetBytes < least)
         throw Error("GPU budget " + mib(b.budgetBytes) + " cannot hold one probe: a probe takes " + mib(b.probeBytes) +
-                    " (" + std::to_string(b.res) + "² faces), and the grid, probe table and staging ring " +
-                    mib(b.fixedBytes) + "; give at least " + mib(b.fixedBytes + b.probeBytes));
-    // A partly used page costs as much as a full one: fewer probes until whole pages fit.
+                    " (" + std::to_string(b.res) + "² faces), and the grid, probe table and the staging of its upload " +
+                    mib(b.fixedBytes + staging(1)) + "; give at least " + mib(least));
+    // A partly used page costs as much as a full one: fewer probes until whole pages (and the staging
+    // their uploads need) fit.
+    const auto cost = [&](std::size_t slots) {
+        const std::size_t tiles = layout(slots).tiles();
+        return b.fixedBytes + staging(tiles) + tiles * b.probeBytes;
+    };
     std::size_t want = std::min(std::max<std::size_t>(b.probes, 1), (b.budgetBytes - b.fixedBytes) / b.probeBytes);
-    while (want > 1 && b.fixedBytes + layout(want).tiles() * b.probeBytes > b.budgetBytes) --want;
-    pool.atlas = layout(want);
-    pool.slots = pool.atlas.tiles();  // every tile of the pages paid for is a slot
-    pool.atlasBytes = pool.slots * b.probeBytes;
-    return pool;
+    while (want > 1 && cost(want) > b.budgetBytes) --want;
+    const ProbeAtlasLayout atlas = layout(want);
+    return finish(atlas, atlas.tiles());  // every tile of the pages paid for is a slot
 }
 
 // ---- ResidencyPlanner ----------------------------------------------------------------------------

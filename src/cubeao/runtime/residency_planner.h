@@ -38,22 +38,32 @@ struct ProbeAtlasLayout {
 // exceeds maxLayers.
 ProbeAtlasLayout probeAtlasLayout(std::size_t slots, int res, int maxTextureSize, int maxLayers);
 
-// What a GPU budget has to hold: the residency's and its caller's fixed buffers, then whole atlas
-// pages of probes.
+// What a GPU budget has to hold: the residency's and its caller's fixed buffers, the staging regions
+// uploads pass through, then whole atlas pages of probes.
 struct ResidencyBudget {
     std::size_t budgetBytes = 0;  // 0: no budget (room for every probe, growing with them)
-    std::size_t fixedBytes = 0;   // staging, probe table, feedback and the caller's own (grid, counters)
+    std::size_t fixedBytes = 0;   // probe table, feedback and the caller's own (grid, counters)
     std::size_t probeBytes = 0;   // one probe's AO and distance texels
     std::size_t probes = 0;       // the probes there are (at least 1 slot is made)
+    std::size_t uploadBytes = 0;     // the most a frame may upload (0: one probe)
+    std::size_t stagingRegions = 0;  // regions of a frame's uploads the budget also holds (ProbeAtlas: 2)
     int res = 1, maxTextureSize = 1, maxLayers = 6;
 };
 struct ResidencyPool {
     ProbeAtlasLayout atlas;
     std::size_t slots = 0;       // without a budget exactly `probes`; with one, every tile of its pages
     std::size_t atlasBytes = 0;  // every tile, used or not
+    // What a frame uploads at most: uploadBytes, but no more than the pool's slots hold (a frame
+    // never loads more probes than there are slots), and at least one probe.
+    std::size_t uploadBound = 0;
+    std::size_t stagingBytes = 0;  // stagingRegions regions of uploadBound, each rounded up to 16 bytes
 };
-// The largest pool whose atlas pages fit the budget beside the fixed bytes. Error when it cannot hold
-// one probe, naming the least budget that can.
+// Bytes of a staging region for uploads of at most `uploadBound` bytes: rounded up to 16, so every
+// region starts where a texel may (GL refuses a PBO offset that is not a multiple of the texel's size).
+std::size_t stagingRegionBytes(std::size_t uploadBound);
+// The largest pool whose atlas pages and staging fit the budget beside the fixed bytes (the staging
+// shrinks with the pool: min(uploadBytes, slots · probeBytes) a region). Error when it cannot hold one
+// probe, naming the least budget that can.
 ResidencyPool residencyPool(const ResidencyBudget& budget);
 
 // Eviction hysteresis: a probe the pixels used within kInUseFrames frames is replaced only by one
