@@ -204,9 +204,15 @@ TEST_F(ViewerWindow, LivePlacementAdoptsACacheBakedWithItsOwnSettings) {
     const CacheReader opened(cache);
     ASSERT_EQ(opened.params().spp, 8u);
     ASSERT_EQ(opened.params().denoise, 0u);
+    ASSERT_EQ(opened.params().aoFormat, AoFormat::Bc4);
+    // Walked without live placement the pass holds the cache's BC4; "live on" makes it hold BC5 (the
+    // live horizon probes carry a confidence): the AO atlas doubles.
+    view("builtin:box-room --cache " + cache.string(), "size 96 54\npath 0\nframes 2\nquit\n");
+    const std::size_t bc4Bytes = stats()["gpu_bytes"].get<std::size_t>();
     view("builtin:box-room --cache " + cache.string() + " --bake-ms 1000 --live-objective coverage --coverage-target 0.01",
          "size 96 54\npath 0\nlive on\nframes 2\nsave " + saved.string() + "\nquit\n");
     const nlohmann::json st = stats();
+    EXPECT_GE(st["gpu_bytes"].get<std::size_t>(), bc4Bytes + probes.size() * 6 * 16 * 16 / 2) << st.dump(2);
     ASSERT_TRUE(st.contains("live")) << st.dump(2);
     EXPECT_EQ(st["probes"].get<std::size_t>(), probes.size()) << st.dump(2);
     EXPECT_EQ(st["damaged"].get<std::size_t>(), 0u);

@@ -148,6 +148,7 @@ private:
     // Probes of the opened cache that live placement found damaged when adopting them, and left out
     // (the pass counts the ones it finds itself: ResidencyStats::damaged).
     std::size_t liveDamaged_ = 0;
+    bool liveAoAsBc5_ = false;  // the pass holds the cache's AO as BC5, for live placement (buildPipelines)
     placement::LiveSettings::Objective liveObjective_ = placement::LiveSettings::Objective::Error;  // --live-objective
 
     std::uint32_t serial_ = 0;     // frames rendered
@@ -220,6 +221,7 @@ Viewer::Viewer(const ViewerOptions& o) : o_(o) {
     ImGui_ImplOpenGL3_Init("#version 450 core");
 
     modes_ = std::make_unique<ViewModes>();
+    liveAoAsBc5_ = o.live;
     buildPipelines();
     if (o.live) startLive();
 }
@@ -266,8 +268,9 @@ void Viewer::loadInputs() {
 void Viewer::buildPipelines() {
     ProbeProjectionSettings settings;
     settings.residency = ResidencySettings::fromMib(o_.gpuBudgetMb, o_.uploadMb);
-    // Held as BC5 whatever the cache stores: live placement may add probes that carry a confidence.
-    settings.aoFormat = AoFormat::Bc5;
+    // Live placement adds probes that carry a confidence (its horizon bakes): with it the pass holds a
+    // BC4 cache as BC5 (confidence 1); without it, as stored.
+    if (liveAoAsBc5_) settings.aoFormat = AoFormat::Bc5;
     // The cache's probes over GTAO; live placement without a cache starts from no probes (GTAO covers
     // what no probe sees yet); neither: GTAO.
     std::unique_ptr<AoPass> method =
@@ -324,6 +327,11 @@ void Viewer::startLive() {
         s_.status = "live placement needs probes: start with --live (or a --cache)";
         spdlog::warn("cubeao-view: {}", s_.status);
         return;
+    }
+    if (!live_ && pass->source().params().aoFormat != AoFormat::Bc5) {  // a BC4 cache: hold it as BC5 from now
+        liveAoAsBc5_ = true;
+        buildPipelines();
+        pass = probes();
     }
     if (!live_) {
         const auto start = Clock::now();
