@@ -21,24 +21,8 @@ cd build-asan
 # keeps CI near 45 minutes.
 skip=(-E 'CliRobustness|CliFormats')
 # The viewer's window tests need an X server, as in tools/test.sh.
-run_ctest() {
-  if [ -z "${DISPLAY:-}" ] && command -v xvfb-run >/dev/null; then
-    xvfb-run -a -s "-screen 0 640x480x24" ctest "$@"
-  else
-    ctest "$@"
-  fi
-}
-if ! run_ctest --output-on-failure -j2 --timeout 1200 "${skip[@]}"; then
-  # LeakSanitizer's own stop-the-world tracer now and then crashes as a process exits ("Tracer caught
-  # signal 11", "LeakSanitizer has encountered a fatal error"; google/sanitizers#1353), after the test
-  # has passed: no leak was reported, none could be looked for. Seen twice in 495 sanitized tests on
-  # 2026-12-06 (a report test's own process, a `cubeao render` of a viewer test), never twice in a
-  # row. When the failures' log shows that crash, the failed tests run once more; a failure that
-  # repeats, a leak report or any other failure stands.
-  if grep -q "LeakSanitizer has encountered a fatal error" Testing/Temporary/LastTest.log; then
-    echo "test-sanitize: LeakSanitizer's tracer crashed as a process exited; the failed tests once more:"
-    run_ctest --output-on-failure --timeout 1200 --rerun-failed
-  else
-    exit 1
-  fi
+if [ -z "${DISPLAY:-}" ] && command -v xvfb-run >/dev/null; then
+  xvfb-run -a -s "-screen 0 640x480x24" ctest --output-on-failure -j2 --timeout 1200 "${skip[@]}"
+else
+  ctest --output-on-failure -j2 --timeout 1200 "${skip[@]}"
 fi
