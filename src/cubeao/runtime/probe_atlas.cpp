@@ -80,10 +80,12 @@ ProbeAtlas::ProbeAtlas(const ProbeSource& source, std::size_t fixedBytes, const 
     uploadBound_ = pool.uploadBound;
     planner_ = ResidencyPlanner(pool.slots, perProbe, uploadBound_);
     allocateAtlas(pool);
-    // Under a budget the staging is part of what the budget holds: made now. Without one, the first
-    // frame loads every probe straight from the source and the staging holds nothing until a probe
-    // comes later (added, or loaded after a cut): made then (ensureStaging).
-    if (!unlimited_) ensureStaging();
+    // Made now even without a budget, where the first frame loads every probe straight from the source
+    // and the ring waits for probes that come later: made on first need instead, the processes that
+    // render and then write images (the image plugin is dlopen'ed after GL) crashed LeakSanitizer's
+    // tracer at exit, every run (ViewerWindow.EveryViewModeRendersWithoutGlErrors' `cubeao render`,
+    // 2026-12-06).
+    staging_->upload = gl::UploadRing(kStagingRegions, stagingRegionBytes(uploadBound_));
     syncProbes(source);
 }
 
@@ -157,16 +159,10 @@ void ProbeAtlas::ensureCapacity(std::size_t probes) {
     glNamedBufferStorage(staging_->demand.id(), GLsizeiptr(staging_->words * 4), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
-// What allocateAtlas, ensureCapacity and ensureStaging hold now.
+// What allocateAtlas, ensureCapacity and the staging ring hold now.
 void ProbeAtlas::updateGpuBytes() {
     stats_.gpuBytes = atlasBytes_ + staging_->upload.bytes() + capacity_ * sizeof(kernel::ProbeEntry) +
                       staging_->feedback.bytes() + staging_->words * 4;
-}
-
-void ProbeAtlas::ensureStaging() {
-    if (staging_->upload.buffer() != 0) return;
-    staging_->upload = gl::UploadRing(kStagingRegions, stagingRegionBytes(uploadBound_));
-    updateGpuBytes();
 }
 
 void ProbeAtlas::writeEntry(ProbeId id, const ProbeSource& source) {
@@ -211,7 +207,6 @@ void ProbeAtlas::upload(const ProbeView& p, SlotId slot, bool direct) {
     const void* ao = p.aoConfidence.data();
     const void* depth = p.depth.data();
     if (!direct) {  // through this frame's staging region: the copy returns before the GPU reads it
-        ensureStaging();
         const std::size_t region = std::size_t(frame() % std::int64_t(kStagingRegions));
         gl::UploadRing& ring = staging_->upload;
         ao = reinterpret_cast<const void*>(ring.write(region, stats_.frameUploadBytes, std::as_bytes(p.aoConfidence)));
@@ -233,8 +228,7 @@ void ProbeAtlas::update(const ProbeSource& source, std::span<const ProbeId> want
     readFeedback();
     stats_.frameUploads = 0, stats_.frameUploadBytes = 0;
     const std::size_t region = std::size_t(frame() % std::int64_t(kStagingRegions));
-    // (unbounded uploads go straight from the source's memory; a staging not made yet is free)
-    if (!unbounded && staging_->upload.buffer() != 0 && !staging_->upload.writable(region)) {
+    if (!unbounded && !staging_->upload.writable(region)) {  // (unbounded uploads go straight from the source's memory)
         stats_.frameUploadMs = 0.0;  // the GPU still reads this region: load nothing this frame
         return;
     }

@@ -69,9 +69,7 @@ public:
     // `fixedBytes`: what the caller allocates besides (grid, counters), counted against the budget.
     // Error when the budget cannot hold one probe, naming what it can hold. Needs a current GL 4.5
     // context.
-    // Without a budget the pool starts with room for max(the source's probes, minSlots) and grows, and
-    // the staging ring is made when the first upload needs it (the first frame loads every probe
-    // straight from the source).
+    // Without a budget the pool starts with room for max(the source's probes, minSlots) and grows.
     ProbeAtlas(const ProbeSource& source, std::size_t fixedBytes, const ResidencySettings& settings,
                std::size_t minSlots = 0);
     ~ProbeAtlas();
@@ -130,7 +128,6 @@ private:
                           std::size_t uploadBytes) const;
     void allocateAtlas(const ResidencyPool& pool);
     void growAtlas(std::size_t slots, const ProbeSource& source);
-    void ensureStaging();  // the upload ring, made on first need
     void updateGpuBytes();
     void writeEntry(ProbeId id, const ProbeSource& source);
     void readFeedback();
