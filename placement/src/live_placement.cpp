@@ -231,8 +231,8 @@ void LivePlacement::adopt(std::vector<ProbeRecord> probes, std::span<const Probe
     if (passIds.size() != probes.size())
         throw Error("LivePlacement::adopt: " + std::to_string(probes.size()) + " probes but " +
                     std::to_string(passIds.size()) + " pass ids");
-    CacheParams held = params;  // the probes join the pass as BC5, whatever their cache stores (liveParams)
-    held.aoFormat = m.fastParams.aoFormat;
+    // The probes join the pass as BC5, whatever their cache stores (liveParams).
+    const CacheParams held = withAoFormat(params, m.fastParams.aoFormat);
     const bool traced = held == m.tracedParams;
     if (!traced && held != m.fastParams)
         throw Error("LivePlacement::adopt: the cache was baked with other parameters than the live bake: " +
@@ -249,7 +249,7 @@ void LivePlacement::adopt(std::vector<ProbeRecord> probes, std::span<const Probe
         p.position = probes[i].position;
         p.passId = passIds[i];
         p.traced = traced;
-        p.record = withAoFormat(std::move(probes[i]), held.aoFormat, held.res);
+        p.record = withAoFormat(std::move(probes[i]), held.aoFormat, held.res, held.levels);
         m.nextIndex = std::max(m.nextIndex, p.index + 1);
         m.probes.push_back(std::move(p));
     }

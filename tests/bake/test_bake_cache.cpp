@@ -4,6 +4,7 @@
 // (bake/bake_cache.h; the CLI around it is in test_cli.cpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -17,6 +18,7 @@
 #include "cubeao/bake/gpu_bake.h"
 #include "cubeao/cache/bc4.h"
 #include "cubeao/cache/depth_cube.h"
+#include "cubeao/cache/probe_levels.h"
 #include "cubeao/scene/import.h"
 #include "bake_test_settings.h"
 #include "gl_fixture.h"
@@ -106,6 +108,36 @@ TEST(BakeEncode, CpuBakeEncodesWhatItBakedAndMeetsFortyDecibels) {
     }
 }
 
+// Levels of detail (bake --levels): level 0 is the bake without them, byte for byte; the coarser levels
+// are probe_levels.h's from the bake's full-resolution AO and its level-0 distances.
+TEST(BakeEncode, LevelsFollowLevelZeroAndComeFromTheFullResolutionAo) {
+    const EmbreeScene rt(boxRoom());
+    const BakeSettings one = bakeSettings(Estimator::Traced, 64, 1.0f, 16);
+    BakeSettings three = one;
+    three.levels = 3;  // 64², 32², 16²; distances 16², 8², 4²
+    three = resolveBakeSettings(three, 1.0f);
+    const BakedProbe a = bakeProbeCpu(rt, kBoxProbe, 3, one), b = bakeProbeCpu(rt, kBoxProbe, 3, three);
+    ASSERT_EQ(b.encoded.aoConfidence.size(), bc::bc5Size(64) + bc::bc5Size(32) + bc::bc5Size(16));
+    ASSERT_EQ(b.encoded.depth.size(), 6u * 2u * (256u + 64u + 16u));
+    EXPECT_TRUE(std::equal(a.encoded.aoConfidence.begin(), a.encoded.aoConfidence.end(), b.encoded.aoConfidence.begin()));
+    EXPECT_TRUE(std::equal(a.encoded.depth.begin(), a.encoded.depth.end(), b.encoded.depth.begin()));
+    std::vector<glm::vec2> aoConfidence(b.ao.size());
+    std::vector<float> distances(b.ao.size());
+    for (std::size_t t = 0; t < b.ao.size(); ++t)
+        aoConfidence[t] = {b.ao[t], b.confidence[t]}, distances[t] = b.gbuffer.texels[t].w;
+    const std::vector<std::uint8_t> ao = levels::coarserAo(aoConfidence, distances, 64, 3);
+    const std::vector<std::uint8_t> depth = levels::coarserDistances(a.encoded.depth, 16, three.depthFormat, 3);
+    EXPECT_TRUE(std::equal(ao.begin(), ao.end(), b.encoded.aoConfidence.begin() + long(a.encoded.aoConfidence.size())));
+    EXPECT_TRUE(std::equal(depth.begin(), depth.end(), b.encoded.depth.begin() + long(a.encoded.depth.size())));
+    EXPECT_EQ(cacheParamsFor(three, 1u).levels, 3u);
+
+    BakeSettings bad = bakeSettings(Estimator::Traced, 32, 1.0f, 16);
+    bad.levels = 4;  // 32 → 4² faces: below 16²
+    EXPECT_TRUE(contains(errorMessage([&] { resolveBakeSettings(bad, 1.0f); }), "--levels 4: expected 1..2 at res 32"));
+    bad.levels = kAllLevels;
+    EXPECT_EQ(resolveBakeSettings(bad, 1.0f).levels, 2);
+}
+
 // ---- GPU encoders against the CPU twin -----------------------------------------------------------
 
 class BakeEncodeGl : public GlTest {};
@@ -162,6 +194,21 @@ TEST_F(BakeEncodeGl, ProductionReadBackLeavesTheUncompressedProbeOnTheGpu) {
     EXPECT_EQ(all.encoded.aoConfidence, encoded.encoded.aoConfidence);
     EXPECT_EQ(all.encoded.depth, encoded.encoded.depth);
     EXPECT_EQ(all.encoded.surfaceTexels, encoded.encoded.surfaceTexels);
+}
+
+// The GPU bake's levels are made from what it read back at full resolution: the same bytes as the CPU
+// encoder makes of that read-back, on the production path (nothing else read back) as well.
+TEST_F(BakeEncodeGl, GpuLevelsMatchTheCpuTwinOnTheSameBake) {
+    BakeSettings s = bakeSettings(Estimator::Traced, 32, 1.0f, 16);
+    s.levels = 2;
+    GpuBaker baker(boxRoom(), s);
+    const BakedProbe encoded = baker.bake(kBoxProbe, 5);
+    baker.setReadback(BakeReadback::All);
+    const BakedProbe all = baker.bake(kBoxProbe, 5);
+    EXPECT_EQ(encoded.encoded.aoConfidence, all.encoded.aoConfidence);
+    EXPECT_EQ(encoded.encoded.depth, all.encoded.depth);
+    EXPECT_EQ(all.encoded.aoConfidence.size(), bc::bc5Size(32) + bc::bc5Size(16));
+    expectSameEncoding(all.encoded, encodeProbeCpu(all.gbuffer, all.ao, all.confidence, s), s.depthFormat);
 }
 
 // The two devices' caches for the same probe: traced AO traces the same rays on both, so the decoded

@@ -319,6 +319,80 @@ TEST(CacheFile, Bc4IsForTracedCachesAndByte116IsReservedBeforeFormatFour) {
     EXPECT_TRUE(contains(errorMessage([&] { CacheReader r(dir / "r117.cubeao"); }), "reserved bytes are not zero"));
 }
 
+TEST(CacheFile, LevelsOfDetailAreFormatFiveAndEachLevelIsItsOwnView) {
+    TempDir dir("cache");
+    CacheParams p = smallParams(32, 8);
+    p.levels = 3;  // AO 32², 16², 8²; distances 8², 4², 2²
+    EXPECT_EQ(aoSectionSize(p), 6u * (32 * 32 + 16 * 16 + 8 * 8));  // BC5: a byte a texel at every level
+    EXPECT_EQ(depthSectionSize(p), 6u * 2 * (64 + 16 + 4));
+    EXPECT_EQ(depthLevelOffset(p, 2), 6u * 2 * (64 + 16));
+    const CacheParams two = levelParams(p, 2);
+    EXPECT_EQ(two.res, 8u);
+    EXPECT_EQ(two.depthRes, 2u);
+    EXPECT_EQ(two.levels, 1u);
+    EXPECT_TRUE(contains(errorMessage([&] { levelParams(p, 3); }), "level 3 of a cache of 3 levels (levels are 0..2)"));
+
+    const auto probes = randomProbes(p, 2, 51);
+    writeCache(dir / "l.cubeao", p, probes);
+    const CacheReader r(dir / "l.cubeao");
+    EXPECT_EQ(r.formatVersion(), 5u);
+    EXPECT_EQ(r.params(), p);
+    EXPECT_EQ(r.fileSize(), cacheFileSize(p, 2));
+    for (std::size_t i = 0; i < probes.size(); ++i) {
+        std::uint64_t ao = 0, depth = 0;
+        for (std::uint32_t k = 0; k < 3; ++k) {
+            const CacheParams l = levelParams(p, k);
+            const ProbeView v = levelView(r.probe(i), p, k);
+            ASSERT_EQ(v.aoConfidence.size(), aoSectionSize(l)) << k;
+            ASSERT_EQ(v.depth.size(), depthSectionSize(l)) << k;
+            EXPECT_EQ(Bytes(v.aoConfidence.begin(), v.aoConfidence.end()),
+                      Bytes(probes[i].aoConfidence.begin() + long(ao), probes[i].aoConfidence.begin() + long(ao + aoSectionSize(l))));
+            EXPECT_EQ(Bytes(v.depth.begin(), v.depth.end()),
+                      Bytes(probes[i].depth.begin() + long(depth), probes[i].depth.begin() + long(depth + depthSectionSize(l))));
+            ao += aoSectionSize(l), depth += depthSectionSize(l);
+        }
+    }
+
+    // A traced cache with levels converts to BC4 level by level: each level's blocks lose their green half.
+    CacheParams traced = p;
+    traced.estimator = 2, traced.hybridThreshold = 0.0f;
+    const CacheParams bc4 = withAoFormat(traced, AoFormat::Bc4);
+    writeCache(dir / "t.cubeao", bc4, tracedProbes(traced, 1, 52));
+    const CacheReader t(dir / "t.cubeao");
+    EXPECT_EQ(t.formatVersion(), 5u);
+    EXPECT_EQ(aoSectionSize(bc4) * 2, aoSectionSize(traced));
+    for (std::uint32_t k = 0; k < 3; ++k) {
+        const ProbeView v = levelView(t.probe(0), bc4, k);
+        EXPECT_EQ(v.aoConfidence.size(), aoSectionSize(levelParams(bc4, k)));
+    }
+
+    // One level is format 4 or older, byte 117 reserved there; levels must halve into whole blocks.
+    CacheParams one = p;
+    one.levels = 1;
+    writeCache(dir / "one.cubeao", one, randomProbes(one, 1, 53));
+    Bytes forged = readBytes(dir / "one.cubeao");
+    EXPECT_EQ(forged[8], 1u);
+    forged[117] = 2;
+    reseal(forged);
+    writeBytes(dir / "r117.cubeao", forged);
+    EXPECT_TRUE(contains(errorMessage([&] { CacheReader x(dir / "r117.cubeao"); }), "reserved bytes are not zero"));
+    CacheParams odd = smallParams(24, 6);
+    odd.levels = 2;  // 24 → 12: not whole 4×4 blocks... it is; depth 6 → 3 is too
+    EXPECT_TRUE(cacheParamProblems(odd).empty());
+    odd.levels = 3;  // 24 → 6: not a multiple of 4
+    const std::string refused = errorMessage([&] { writeCache(dir / "odd.cubeao", odd, std::vector<ProbeRecord>{}); });
+    EXPECT_TRUE(contains(refused, "3 levels need res a multiple of 16 and depthRes of 4 (res 24, depthRes 6)")) << refused;
+    forged = readBytes(dir / "l.cubeao");
+    forged[117] = 9;
+    reseal(forged);
+    writeBytes(dir / "nine.cubeao", forged);
+    EXPECT_TRUE(contains(errorMessage([&] { CacheReader x(dir / "nine.cubeao"); }), "levels 9 is not in 1..8"));
+    EXPECT_EQ(maxLevels(512, 128), 6u);  // 512² … 16²
+    EXPECT_EQ(maxLevels(128, 32), 4u);
+    EXPECT_EQ(maxLevels(24, 6), 1u);  // 12² < 16²
+    EXPECT_EQ(maxLevels(512, 3), 1u);  // the distance cube does not halve
+}
+
 TEST(CacheFile, RoundTripEveryDepthFormatAndNoProbes) {
     TempDir dir("cache");
     for (DepthFormat f : {DepthFormat::R16Unorm, DepthFormat::R16Float, DepthFormat::R32Float})

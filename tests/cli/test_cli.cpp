@@ -378,6 +378,46 @@ TEST(CliCache, BakeAndMergeChooseTheAoFormat) {
     EXPECT_EQ(fileBytes(merged), fileBytes(bc4)) << "BC5 -> BC4 is the red half of each block: what the bake writes";
 }
 
+// bake --levels: the chain on disk (format 5, info names it), level 0 the bake without levels; the
+// wrong count is a usage error naming what the resolution allows; resuming with another count is
+// refused; export writes level 0.
+TEST(CliCache, BakeStoresLevelsOfDetail) {
+    TempDir dir;
+    const std::string probes = probeSet(dir, "two.json", 2);
+    const fs::path plain = dir.path() / "p.cubeao", levels = dir.path() / "l.cubeao";
+    const std::string bake = "bake builtin:box-room --res 32 --spp 4 --device cpu --probes " + probes;
+    ASSERT_EQ(run(bake + " --out " + plain.string()).code, 0);
+    const CliRun b = run(bake + " --out " + levels.string() + " --levels max --json");
+    ASSERT_EQ(b.code, 0) << b.out;
+    EXPECT_EQ(lastLine(b.out)["settings"]["levels"], 2) << b.out;
+    const CacheReader p(plain), l(levels);
+    EXPECT_EQ(l.formatVersion(), 5u);
+    EXPECT_EQ(l.params().levels, 2u);
+    for (std::size_t i = 0; i < 2; ++i) {
+        const cubeao::ProbeView a = p.probe(i), b0 = levelView(l.probe(i), l.params(), 0);
+        EXPECT_TRUE(std::equal(a.aoConfidence.begin(), a.aoConfidence.end(), b0.aoConfidence.begin(), b0.aoConfidence.end()));
+        EXPECT_TRUE(std::equal(a.depth.begin(), a.depth.end(), b0.depth.begin(), b0.depth.end()));
+    }
+    const CliRun info = run("info " + levels.string() + " --json");
+    ASSERT_EQ(info.code, 0) << info.out;
+    EXPECT_TRUE(contains(info.out, "2 levels of detail per probe, 32² to 16² faces")) << info.out;
+    EXPECT_EQ(lastLine(info.out)["levels"], 2);
+
+    const CliRun tooMany = run(bake + " --out " + (dir.path() / "x.cubeao").string() + " --levels 3", true);
+    EXPECT_EQ(tooMany.code, 2);
+    EXPECT_TRUE(contains(tooMany.out, "--levels 3: expected 1..2 at res 32")) << tooMany.out;
+    EXPECT_EQ(run(bake + " --out " + (dir.path() / "x.cubeao").string() + " --levels two", true).code, 2);
+    const CliRun resumed = run(bake + " --out " + plain.string() + " --levels 2", true);
+    EXPECT_EQ(resumed.code, 1);
+    EXPECT_TRUE(contains(resumed.out, "levels 1 vs 2") || contains(resumed.out, "levels 2 vs 1")) << resumed.out;
+
+    const fs::path ep = dir.path() / "ep", el = dir.path() / "el";
+    ASSERT_EQ(run("export " + plain.string() + " --out " + ep.string()).code, 0);
+    ASSERT_EQ(run("export " + levels.string() + " --out " + el.string()).code, 0);
+    EXPECT_EQ(fileBytes(ep / "probe_0000_ao.dds"), fileBytes(el / "probe_0000_ao.dds"));
+    EXPECT_EQ(fileBytes(ep / "probe_0001_distance.dds"), fileBytes(el / "probe_0001_distance.dds"));
+}
+
 TEST(CliCache, BakeResumesAndRefusesAnotherBake) {
     TempDir dir;
     const fs::path cache = dir.path() / "box.cubeao";

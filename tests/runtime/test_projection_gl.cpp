@@ -169,6 +169,47 @@ TEST_F(GlTest, ABc4CacheRendersAsItsBc5Twin) {
     EXPECT_LE(bytes4 + aoAtlas5 / 2, bytes5) << "BC4 holds the AO in half the bytes";
 }
 
+// Levels of detail: a cache baked with --levels renders at level 0 exactly as the bake without levels
+// does, and at level 1 exactly as a one-level cache holding its level-1 cubes (levelView) does, at
+// that level's smaller atlas.
+TEST_F(GlTest, EachLevelOfACacheRendersAsACacheOfThatLevelAlone) {
+    test::TempDir dir;
+    const std::string probes = dir.write("probes.json", R"({"version":1,"probes":[{"pos":[3,1.4,2.5]},{"pos":[6,1.5,1.5]}]})");
+    const auto bake = [&](const std::string& name, const std::string& extra) {
+        const std::string out = (dir.path() / name).string();
+        const std::string cmd = std::string(cubeao::test::cubeaoBinary()) + " bake builtin:box-room --probes " + probes +
+                                " --out " + out + " --res 32 --spp 16 --radius 1 --device cpu" + extra + " > /dev/null 2>&1";
+        EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+        return out;
+    };
+    const CacheReader levels(bake("levels.cubeao", " --levels max")), plain(bake("plain.cubeao", ""));
+    ASSERT_EQ(levels.params().levels, 2u);  // 32², 16²
+    const std::string level1File = (dir.path() / "level1.cubeao").string();
+    std::vector<ProbeView> level1;
+    for (std::size_t i = 0; i < levels.probeCount(); ++i) level1.push_back(levelView(levels.probe(i), levels.params(), 1));
+    writeCache(level1File, levelParams(levels.params(), 1), level1);
+    const CacheReader alone(level1File);
+
+    const Scene scene = loadScene("builtin:box-room");
+    ProbeProjectionSettings atLevel1;
+    atLevel1.level = 1;
+    std::size_t bytes0 = 0, bytes1 = 0;
+    const std::vector<float> a = projectFrame(scene, levels, {}, &bytes0), b = projectFrame(scene, plain, {});
+    const std::vector<float> c = projectFrame(scene, levels, atLevel1, &bytes1), d = projectFrame(scene, alone, {});
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        ASSERT_EQ(a[i], b[i]) << "pixel " << i;
+        ASSERT_EQ(c[i], d[i]) << "pixel " << i;
+        differ += a[i] != c[i] ? 1 : 0;
+    }
+    EXPECT_GT(differ, 0u) << "level 1 is another picture";
+    EXPECT_LT(bytes1, bytes0) << "level 1's atlas is a quarter of level 0's";
+    ProbeProjectionSettings atLevel2;
+    atLevel2.level = 2;
+    const std::string refused = test::errorMessage([&] { projectFrame(scene, levels, atLevel2); });
+    EXPECT_TRUE(test::contains(refused, "level 2 of a cache of 2 levels")) << refused;
+}
+
 // ---- two probes, the camera walking from one to the other (issue 6) -----------------------------
 
 // P: a floor point 0.4 m in front of the box room's cabinet (x = 7.4), where AO changes fast, seen

@@ -307,6 +307,7 @@ BakeSettings Viewer::liveBake(Estimator estimator) const {
     if (cache_) {
         const CacheParams& p = cache_->params();
         b.res = int(p.res), b.depthRes = int(p.depthRes), b.depthFormat = p.depthFormat;
+        b.levels = int(p.levels);  // the pass holds level 0 of either (ProbeSource::add)
         b.ao.falloff = Falloff(p.falloff);
         b.ao.seed = p.seed;
         // The opened cache's own estimator bakes as the cache did (rays, filter, horizon steps), so

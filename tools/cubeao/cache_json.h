@@ -25,7 +25,8 @@ Json bakeParamsJson(const CacheParams& p) {
                 {"res", p.res},
                 {"depth_res", p.depthRes},
                 {"depth_format", depthFormatName(p.depthFormat)},
-                {"ao_format", aoFormatName(p.aoFormat)}};
+                {"ao_format", aoFormatName(p.aoFormat)},
+                {"levels", p.levels}};
 }
 
 }  // namespace cubeao::cli

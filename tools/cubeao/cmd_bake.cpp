@@ -32,12 +32,20 @@ namespace fs = std::filesystem;
 
 struct BakeArgs {
     std::string scene, probes, out, dump, estimator = "traced", device = "gpu", falloff = "none", shard,
-                                          gbuffer = "layered", depthFormat = "r16unorm", ao;
+                                          gbuffer = "layered", depthFormat = "r16unorm", ao, levels;
     int res = 0, spp = 0, directions = 0, steps = 0, verifySpp = 0, depthRes = 0, denoise = -1;
     float radius = 0.0f, hybridThreshold = 0.0f;
     std::uint32_t seed = 0;
     bool verify = false, timings = false, json = false;
 };
+
+// --levels: a count or "max"; empty: the default (0).
+int parseLevels(const std::string& levels) {
+    if (levels.empty()) return 0;
+    if (levels == "max") return kAllLevels;
+    if (levels.find_first_not_of("0123456789") == std::string::npos && levels.size() <= 2) return std::stoi(levels);
+    throw UsageError("--levels \"" + levels + "\": expected a count of levels of detail (1 = none) or max");
+}
 
 BakeSettings settingsFrom(const BakeArgs& a, const Scene& scene) {
     BakeSettings s;
@@ -51,6 +59,7 @@ BakeSettings settingsFrom(const BakeArgs& a, const Scene& scene) {
     s.depthRes = a.depthRes;
     s.denoise = a.denoise;
     if (!a.ao.empty()) s.aoFormat = parseAoFormat(a.ao);
+    s.levels = parseLevels(a.levels);
     s.depthFormat = a.depthFormat == "r16unorm"   ? DepthFormat::R16Unorm
                     : a.depthFormat == "r16float" ? DepthFormat::R16Float
                     : a.depthFormat == "r32float"
@@ -73,7 +82,8 @@ nlohmann::json settingsJson(const BakeSettings& s) {
             {"depth_res", s.depthRes},
             {"depth_format", depthFormatName(s.depthFormat)},
             {"denoise", s.denoise},
-            {"ao_format", aoFormatName(*s.aoFormat)}};
+            {"ao_format", aoFormatName(*s.aoFormat)},
+            {"levels", s.levels}};
 }
 
 nlohmann::json timingsJson(const BakeTimings& t) {
@@ -243,6 +253,9 @@ void addBake(CLI::App& app) {
     cmd->add_option("--depth-res", a->depthRes, "Distance cube texels per side (default res/4)");
     cmd->add_option("--depth-format", a->depthFormat, "r16unorm | r16float | r32float")->capture_default_str();
     cmd->add_option("--ao", a->ao, "Cached AO: bc4 (AO alone; traced's default) | bc5 (AO + confidence; the others')");
+    cmd->add_option("--levels", a->levels,
+                    "Levels of detail stored per probe, each half the last's resolution: a count (default 1: none) or "
+                    "max (down to 16² faces)");
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
     cmd->callback([a] { run(*a); });
 }

@@ -169,7 +169,7 @@ void run(const ExportArgs& a) {
     Ordered probes = Ordered::array();
     Progress progress("export", cache.probeCount(), "probes");
     for (std::size_t i = 0; i < cache.probeCount(); ++i) {
-        const ProbeView v = cache.probe(i);
+        const ProbeView v = levelView(cache.probe(i), p, 0);  // the finest level (a cache's levels are not exported)
         char stem[32];
         std::snprintf(stem, sizeof stem, "probe_%04u", v.index);
         const std::string aoName = stem + ("_ao" + ext), distanceName = stem + ("_distance" + ext);

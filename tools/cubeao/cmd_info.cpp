@@ -198,6 +198,9 @@ void cacheInfo(const InfoArgs& a) {
                 p.depthRes, depthFormatName(p.depthFormat), estimatorName(Estimator(p.estimator)), double(p.radius),
                 falloffName(Falloff(p.falloff)), p.spp, p.seed, p.directions, p.steps,
                 unsigned(p.denoise), (unsigned long long)cache.fileSize(), cache.bytesPerTexel());
+    if (p.levels > 1)
+        std::printf("  levels     %u levels of detail per probe, %u² to %u² faces\n", unsigned(p.levels), p.res,
+                    p.res >> (p.levels - 1));
     if (p.origin != glm::vec3(0.0f)) {
         std::printf("  origin     (%.10g, %.10g, %.10g): probe positions are relative to it\n", double(p.origin.x),
                     double(p.origin.y), double(p.origin.z));

@@ -39,7 +39,7 @@ struct RenderArgs {
     float radius = 0.0f, alpha = 1.0f, alchemySigma = 0.0f;
     double gpuBudgetMb = 0.0, uploadMb = 0.0;  // probes: 0 = everything resident; 0 = the default bound
     std::string fallback = "gtao";
-    std::uint32_t seed = 0;
+    std::uint32_t seed = 0, level = 0;  // level: probes, the level of detail every probe is held at
     bool json = false;
 };
 
@@ -90,6 +90,7 @@ PassSettings usageChecked(const RenderArgs& a) {
     if (a.fallback != "gtao" && a.fallback != "none")
         throw UsageError("--fallback \"" + a.fallback + "\": expected gtao or none");
     p.probes.residency = ResidencySettings::fromMib(a.gpuBudgetMb, a.uploadMb);
+    p.probes.level = a.level;
     return p;
 }
 
@@ -211,6 +212,7 @@ void run(const RenderArgs& a) {
         result["pixels"] = shares.json(range.size());
         result["cache"] = a.cache;
         result["probes"] = cache->probeCount();
+        result["level"] = a.level;
         result["residency"] = residencyJson(*projection);
         result["residency"]["gpu_budget_mb"] = a.gpuBudgetMb, result["residency"]["fallback"] = a.fallback;
     }
@@ -256,6 +258,8 @@ void addRender(CLI::App& app) {
     cmd->add_option("--gpu-budget-mb", a->gpuBudgetMb,
                     "probes: GPU memory for probes, grid and staging, MiB; probes stream in by priority (default 0: all resident)");
     cmd->add_option("--upload-mb", a->uploadMb, "probes: bytes uploaded per frame at most, MiB (default 8)");
+    cmd->add_option("--level", a->level,
+                    "probes: hold every probe at this level of detail of a cache baked with --levels (0: the finest)");
     cmd->add_option("--fallback", a->fallback, "probes: what pixels no resident probe sees get: gtao | none (open)")
         ->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");

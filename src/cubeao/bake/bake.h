@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -75,6 +76,12 @@ BakedProbe bakeProbeCpu(const EmbreeScene& scene, const glm::vec3& probe, std::u
 // and distance texels within one r16unorm code (tests/bake/test_bake_cache.cpp).
 EncodedProbe encodeProbeCpu(const CubeGBuffer& g, const std::vector<float>& ao, const std::vector<float>& confidence,
                             const BakeSettings& settings);
+
+// The coarser levels of detail (settings.levels > 1; cache/probe_levels.h) appended to e's sections,
+// from the full-resolution (AO, confidence) and g's distances, and e's level-0 distance cube. Both
+// bakers call it, so their levels agree as their level 0 does.
+void appendLevels(EncodedProbe& e, std::span<const glm::vec2> aoConfidence, const CubeGBuffer& g,
+                  const BakeSettings& settings);
 
 // AO of every texel of `g` by rays from its surface point: ambientOcclusion() with the texel's
 // texelKey. `only`, when not empty, selects texels (nonzero = trace); others keep `ao`'s value.

@@ -1,5 +1,6 @@
 #include "cubeao/bake/bake_settings.h"
 
+#include <algorithm>
 #include <vector>
 
 #include "common/ao_denoise.h"
@@ -47,6 +48,10 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius) {
     if (s.denoise == -1)
         s.denoise = tracesRays(s.estimator) ? kernel::kAoDenoiseDefaultRadius : 0;
     if (!s.aoFormat) s.aoFormat = defaultAoFormat(std::uint8_t(s.estimator));
+    if (s.levels == 0) s.levels = 1;
+    const int mostLevels =
+        s.res >= 4 && s.depthRes >= 1 ? int(maxLevels(std::uint32_t(s.res), std::uint32_t(s.depthRes))) : 1;
+    if (s.levels == kAllLevels) s.levels = mostLevels;
 
     std::vector<std::string> problems;
     if (s.res < 4 || s.res > 4096 || s.res % 4 != 0)
@@ -67,6 +72,11 @@ BakeSettings resolveBakeSettings(BakeSettings s, float sceneDefaultRadius) {
     if (s.steps < 1 || s.steps > 64) problems.push_back("steps " + std::to_string(s.steps) + ": expected 1..64");
     if (!(s.hybridThreshold > 0.0f && s.hybridThreshold <= 1.0f))
         problems.push_back("hybrid threshold must lie in (0, 1]");
+    if (s.levels < 1 || s.levels > mostLevels)
+        problems.push_back("--levels " + std::to_string(s.levels) + ": expected 1.." + std::to_string(mostLevels) +
+                           " at res " + std::to_string(s.res) + " and depth-res " + std::to_string(s.depthRes) +
+                           " (each level halves both, whole 4x4 blocks, AO faces of at least " +
+                           std::to_string(kMinLevelRes) + " texels), or max");
     if (*s.aoFormat == AoFormat::Bc4 && s.estimator != Estimator::Traced)
         problems.push_back(std::string("--ao bc4: AO alone suits traced caches, whose confidence is 1 everywhere; ") +
                            estimatorName(s.estimator) + " estimates a confidence the projection ranks by: use bc5");
@@ -99,6 +109,7 @@ CacheParams cacheParamsFor(const BakeSettings& s, std::uint64_t sceneHash) {
     p.steps = horizon ? std::uint32_t(s.steps) : 0;
     p.hybridThreshold = s.estimator == Estimator::Hybrid ? s.hybridThreshold : 0.0f;
     p.aoFormat = s.aoFormat.value_or(defaultAoFormat(p.estimator));
+    p.levels = std::uint8_t(std::max(s.levels, 1));
     return p;
 }
 

@@ -47,7 +47,10 @@ struct BakeSettings {
                                       // -1 → kAoDenoiseDefaultRadius (1) for traced and hybrid, 0 = off
     std::optional<AoFormat> aoFormat; // the cache's AO blocks; none → defaultAoFormat: BC4 for traced (its
                                       // confidence is 1 everywhere), BC5 (AO + confidence) for the others
+    int levels = 0;                   // levels of detail per probe (format 5, probe_levels.h); 0 → 1 (the
+                                      // run time reads level 0 alone so far), kAllLevels → maxLevels(res, depthRes)
 };
+constexpr int kAllLevels = -1;  // `--levels max`
 
 // Fills the zero fields with defaults (radius from `sceneDefaultRadius`) and checks ranges, listing
 // every problem in one UsageError.

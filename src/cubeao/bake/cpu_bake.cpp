@@ -16,6 +16,7 @@
 #include "cubeao/bake/horizon.h"
 #include "cubeao/cache/bc4.h"
 #include "cubeao/cache/depth_cube.h"
+#include "cubeao/cache/probe_levels.h"
 #include "cubeao/core/error.h"
 
 namespace cubeao {
@@ -188,7 +189,20 @@ EncodedProbe encodeProbeCpu(const CubeGBuffer& g, const std::vector<float>& ao, 
         e.aoSquaredError += d * d;
         ++e.surfaceTexels;
     }
+    appendLevels(e, aoConfidence, g, settings);
     return e;
+}
+
+void appendLevels(EncodedProbe& e, std::span<const glm::vec2> aoConfidence, const CubeGBuffer& g,
+                  const BakeSettings& settings) {
+    if (settings.levels <= 1) return;
+    std::vector<float> distances(g.texelCount());
+    for (std::size_t t = 0; t < distances.size(); ++t) distances[t] = g.texels[t].w;
+    const std::vector<std::uint8_t> ao = levels::coarserAo(aoConfidence, distances, g.res, settings.levels);
+    const std::vector<std::uint8_t> depth =
+        levels::coarserDistances(e.depth, settings.depthRes, settings.depthFormat, settings.levels);
+    e.aoConfidence.insert(e.aoConfidence.end(), ao.begin(), ao.end());
+    e.depth.insert(e.depth.end(), depth.begin(), depth.end());
 }
 
 BakeSettings verifyReferenceSettings(const BakeSettings& bake, int spp) {

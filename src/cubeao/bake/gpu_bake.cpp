@@ -340,6 +340,14 @@ void GpuBaker::Impl::readEncoded(BakedProbe& out, const glm::vec3& probe, const 
     out.encoded.depth = std::move(depth.bytes);
     out.encoded.maxDistance = depth.maxDistance;
     if (readback == BakeReadback::All) readAll(out, probe, s.res);
+    if (s.levels > 1) {  // the coarser levels are made on the CPU from the full-resolution data
+        BakedProbe full;
+        if (readback != BakeReadback::All) readAll(full, probe, s.res);
+        const BakedProbe& from = readback == BakeReadback::All ? out : full;
+        std::vector<glm::vec2> aoConfidence(from.ao.size());
+        for (std::size_t t = 0; t < aoConfidence.size(); ++t) aoConfidence[t] = {from.ao[t], from.confidence[t]};
+        appendLevels(out.encoded, aoConfidence, from.gbuffer, s);
+    }
 }
 
 void GpuBaker::Impl::readCounters(BakedProbe& out, const BakeSettings& s) const {

@@ -1,5 +1,6 @@
 // The cache's header codec and probe checksum (cache_codec.h), and the public parameter and size
 // functions of cache_file.h.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -23,7 +24,11 @@ std::array<std::uint8_t, kHeaderSize> encodeHeader(const CacheParams& p, std::ui
     std::memcpy(h.data() + hdr::magic, kMagic.data(), kMagic.size());
     const bool recentred = p.origin != glm::vec3(0.0f);
     // The oldest format that holds the file (cache_file.h).
-    put32(&h[hdr::version], p.aoFormat != AoFormat::Bc5 ? 4u : p.denoise != 0 ? 3u : recentred ? 2u : 1u);
+    put32(&h[hdr::version], p.levels > 1                   ? 5u
+                            : p.aoFormat != AoFormat::Bc5 ? 4u
+                            : p.denoise != 0              ? 3u
+                            : recentred                   ? 2u
+                                                          : 1u);
     put32(&h[hdr::headerSize], kHeaderSize);
     put64(&h[hdr::sceneHash], p.sceneHash);
     put32(&h[hdr::res], p.res);
@@ -47,6 +52,7 @@ std::array<std::uint8_t, kHeaderSize> encodeHeader(const CacheParams& p, std::ui
     if (recentred)
         for (int k = 0; k < 3; ++k) putF32(&h[hdr::origin + 4 * std::size_t(k)], p.origin[k]);
     h[hdr::aoFormat] = std::uint8_t(p.aoFormat);  // reserved (0 = BC5) before format 4
+    if (p.levels > 1) h[hdr::levels] = p.levels;  // reserved (0) before format 5
     put64(&h[hdr::headerChecksum], XXH3_64bits(h.data(), hdr::headerChecksum));
     return h;
 }
@@ -63,6 +69,7 @@ CacheParams decodeParams(const std::uint8_t* h, std::uint32_t version) {
     p.falloff = h[hdr::falloff];
     if (version >= 3) p.denoise = h[hdr::denoise];
     if (version >= 4) p.aoFormat = AoFormat(h[hdr::aoFormat]);
+    if (version >= 5) p.levels = h[hdr::levels];
     p.spp = get32(h + hdr::spp);
     p.radius = getF32(h + hdr::radius);
     p.seed = get32(h + hdr::seed);
@@ -125,12 +132,17 @@ AoFormat defaultAoFormat(std::uint8_t estimator) {
 }
 
 std::vector<std::uint8_t> convertAoSection(std::span<const std::uint8_t> section, std::uint32_t res, AoFormat from,
-                                           AoFormat to) {
-    const std::uint64_t blocks = kFaces * std::uint64_t(res / 4) * (res / 4);
-    if (aoBlockBytes(from) == 0 || aoBlockBytes(to) == 0 || res % 4 != 0 || section.size() != blocks * aoBlockBytes(from))
+                                           AoFormat to, std::uint32_t levels) {
+    CacheParams p;  // the chain's block count: every level is whole blocks of either format
+    p.res = res, p.levels = std::uint8_t(std::min(levels, 255u)), p.aoFormat = from;
+    const bool valid = aoBlockBytes(from) != 0 && aoBlockBytes(to) != 0 && levels >= 1 &&
+                       levels <= kMaxCacheLevels && res % (4u << (levels - 1)) == 0;
+    if (!valid || section.size() != aoSectionSize(p))
         throw Error("AO section of " + std::to_string(section.size()) + " bytes is not " + aoFormatName(from) +
-                    " at res " + std::to_string(res));
+                    " at res " + std::to_string(res) +
+                    (levels == 1 ? "" : " with " + std::to_string(levels) + " levels"));
     if (from == to) return {section.begin(), section.end()};
+    const std::uint64_t blocks = section.size() / aoBlockBytes(from);
     // Confidence 1 in every texel: red_0 = 255 > red_1 = 254, every 3-bit code 0 (= red_0), the block
     // the encoder makes of sixteen ones (cache/bc4.h), so a traced bake's BC5 blocks come back exactly.
     constexpr std::array<std::uint8_t, 8> kGreenOne{255, 254, 0, 0, 0, 0, 0, 0};
@@ -146,11 +158,16 @@ std::vector<std::uint8_t> convertAoSection(std::span<const std::uint8_t> section
     return out;
 }
 
-ProbeRecord withAoFormat(ProbeRecord r, AoFormat to, std::uint32_t res) {
+ProbeRecord withAoFormat(ProbeRecord r, AoFormat to, std::uint32_t res, std::uint32_t levels) {
     if (r.aoFormat == to) return r;
-    r.aoConfidence = convertAoSection(r.aoConfidence, res, r.aoFormat, to);
+    r.aoConfidence = convertAoSection(r.aoConfidence, res, r.aoFormat, to, levels);
     r.aoFormat = to;
     return r;
+}
+
+CacheParams withAoFormat(CacheParams p, AoFormat to) {
+    p.aoFormat = to;
+    return p;
 }
 
 std::vector<std::string> cacheParamProblems(const CacheParams& p) {
@@ -179,6 +196,13 @@ std::vector<std::string> cacheParamProblems(const CacheParams& p) {
     else if (p.aoFormat == AoFormat::Bc4 && p.estimator != kTracedEstimator)
         problems.push_back("ao format bc4 holds no confidence: only traced caches (estimator 2) use it, not estimator " +
                            std::to_string(p.estimator));
+    if (p.levels < 1 || p.levels > kMaxCacheLevels)
+        problems.push_back("levels " + std::to_string(p.levels) + " is not in 1.." + std::to_string(kMaxCacheLevels));
+    else if (p.levels > 1 && (p.res % (4u << (p.levels - 1)) != 0 || p.depthRes % (1u << (p.levels - 1)) != 0))
+        problems.push_back(std::to_string(p.levels) + " levels need res a multiple of " +
+                           std::to_string(4u << (p.levels - 1)) + " and depthRes of " +
+                           std::to_string(1u << (p.levels - 1)) + " (res " + std::to_string(p.res) + ", depthRes " +
+                           std::to_string(p.depthRes) + ")");
     return problems;
 }
 
@@ -206,16 +230,53 @@ std::vector<std::string> cacheParamDifferences(const CacheParams& a, const Cache
     if (a.origin != b.origin) d.push_back("origin " + fmtVec(a.origin) + " vs " + fmtVec(b.origin));
     if (a.aoFormat != b.aoFormat)
         d.push_back(std::string("ao format ") + aoFormatName(a.aoFormat) + " vs " + aoFormatName(b.aoFormat));
+    num("levels", unsigned(a.levels), unsigned(b.levels));
     return d;
 }
 
+namespace {
+
+// Level k's own section sizes (levelParams without its checks).
+std::uint64_t aoLevelSize(const CacheParams& p, std::uint32_t k) {
+    const std::uint64_t side = (p.res >> k) / 4;
+    return kFaces * side * side * aoBlockBytes(p.aoFormat);  // one block per 4×4 texels
+}
+std::uint64_t depthLevelSize(const CacheParams& p, std::uint32_t k) {
+    const std::uint64_t side = p.depthRes >> k;
+    return kFaces * side * side * depthBytesPerTexel(p.depthFormat);
+}
+std::uint32_t levelCount(const CacheParams& p) { return std::clamp<std::uint32_t>(p.levels, 1, kMaxCacheLevels); }
+
+}  // namespace
+
 std::uint64_t aoSectionSize(const CacheParams& p) {
-    const std::uint64_t blocks = std::uint64_t(p.res / 4) * (p.res / 4);
-    return kFaces * blocks * aoBlockBytes(p.aoFormat);  // one block per 4×4 texels
+    std::uint64_t bytes = 0;
+    for (std::uint32_t k = 0; k < levelCount(p); ++k) bytes += aoLevelSize(p, k);
+    return bytes;
 }
 
 std::uint64_t depthSectionSize(const CacheParams& p) {
-    return kFaces * std::uint64_t(p.depthRes) * p.depthRes * depthBytesPerTexel(p.depthFormat);
+    std::uint64_t bytes = 0;
+    for (std::uint32_t k = 0; k < levelCount(p); ++k) bytes += depthLevelSize(p, k);
+    return bytes;
+}
+
+std::uint32_t maxLevels(std::uint32_t res, std::uint32_t depthRes) {
+    std::uint32_t levels = 1;
+    while (levels < kMaxCacheLevels && (res >> levels) >= kMinLevelRes && res % (4u << levels) == 0 &&
+           depthRes % (1u << levels) == 0)
+        ++levels;
+    return levels;
+}
+
+CacheParams levelParams(const CacheParams& p, std::uint32_t level) {
+    if (level >= levelCount(p))
+        throw Error("level " + std::to_string(level) + " of a cache of " + std::to_string(levelCount(p)) +
+                    (levelCount(p) == 1 ? " level" : " levels") + " (levels are 0.." +
+                    std::to_string(levelCount(p) - 1) + ")");
+    CacheParams l = p;
+    l.res = p.res >> level, l.depthRes = p.depthRes >> level, l.levels = 1;
+    return l;
 }
 
 std::uint64_t cacheFileSize(const CacheParams& p, std::uint64_t probes) {
@@ -224,6 +285,28 @@ std::uint64_t cacheFileSize(const CacheParams& p, std::uint64_t probes) {
 
 ProbeView viewOf(const ProbeRecord& r) {
     return {r.index, r.position, r.maxDistance, r.aoConfidence, r.depth, r.aoFormat};
+}
+
+std::uint64_t depthLevelOffset(const CacheParams& p, std::uint32_t level) {
+    std::uint64_t offset = 0;
+    for (std::uint32_t k = 0; k < level; ++k) offset += depthLevelSize(p, k);
+    return offset;
+}
+
+ProbeView levelView(const ProbeView& v, const CacheParams& p, std::uint32_t level) {
+    levelParams(p, level);  // checks the level
+    const CacheParams own = withAoFormat(p, v.aoFormat);
+    std::uint64_t ao = 0;
+    for (std::uint32_t k = 0; k < level; ++k) ao += aoLevelSize(own, k);
+    const std::uint64_t depth = depthLevelOffset(p, level);
+    const std::uint64_t aoSize = aoLevelSize(own, level), depthSize = depthLevelSize(own, level);
+    if (ao + aoSize > v.aoConfidence.size() || depth + depthSize > v.depth.size())
+        throw Error("probe " + std::to_string(v.index) + ": sections of " + std::to_string(v.aoConfidence.size()) +
+                    " and " + std::to_string(v.depth.size()) + " bytes hold no level " + std::to_string(level));
+    ProbeView l = v;
+    l.aoConfidence = v.aoConfidence.subspan(ao, aoSize);
+    l.depth = v.depth.subspan(depth, depthSize);
+    return l;
 }
 
 }  // namespace cubeao

@@ -36,8 +36,8 @@ constexpr std::size_t magic = 0, version = 8, headerSize = 12, sceneHash = 16, r
                       depthFormat = 32, estimator = 33, falloff = 34, reserved0 = 35, denoise = 35, spp = 36, radius = 40,
                       seed = 44, directions = 48, steps = 52, hybridThreshold = 56, probeCount = 60,
                       tableOffset = 64, payloadOffset = 72, payloadSize = 80, fileSize = 88, tableChecksum = 96,
-                      reserved1 = 104, origin = 104, reserved2 = 116, aoFormat = 116, reserved3 = 117,
-                      headerChecksum = 120;  // origin: format 2; aoFormat: format 4
+                      reserved1 = 104, origin = 104, reserved2 = 116, aoFormat = 116, reserved3 = 117, levels = 117,
+                      reserved4 = 118, headerChecksum = 120;  // origin: format 2; aoFormat: 4; levels: 5
 }  // namespace hdr
 namespace ent {  // byte offsets in a probe table entry
 constexpr std::size_t position = 0, maxDistance = 12, aoOffset = 16, aoSize = 24, depthOffset = 32, depthSize = 40,

@@ -22,12 +22,17 @@ class Progress;
 
 // Newest format this build writes and reads (docs/FORMAT.md "Versioning"). Format 2 adds the scene's
 // origin (CacheParams::origin), format 3 the bake's AO filter (CacheParams::denoise), format 4 the AO
-// section's format (CacheParams::aoFormat). A cache is written in the oldest format that holds it: one
-// whose origin is 0, whose AO is unfiltered and BC5 is still format 1, byte for byte what earlier
-// builds wrote and can read.
-constexpr std::uint32_t kCacheFormatVersion = 4;
+// section's format (CacheParams::aoFormat), format 5 the levels of detail (CacheParams::levels). A cache
+// is written in the oldest format that holds it: one whose origin is 0, whose AO is unfiltered, BC5 and
+// of one level is still format 1, byte for byte what earlier builds wrote and can read.
+constexpr std::uint32_t kCacheFormatVersion = 5;
 // The widest AO filter a header can name (bake_settings.h kMaxDenoiseRadius).
 constexpr std::uint32_t kMaxCacheDenoise = 8;
+// Levels of detail (format 5): level k of a probe is its cube at res >> k (AO) and depthRes >> k
+// (distance), each level made from the full-resolution data. At most this many, and no level's AO
+// face smaller than kMinLevelRes texels (defaultLevels).
+constexpr std::uint32_t kMaxCacheLevels = 8;
+constexpr std::uint32_t kMinLevelRes = 16;
 // Every payload section starts at a multiple of this, so BC blocks and depth texels can be uploaded
 // straight from the mapping.
 constexpr std::uint64_t kCacheSectionAlignment = 16;
@@ -61,8 +66,9 @@ AoFormat defaultAoFormat(std::uint8_t estimator);
 // its red BC4 block followed by its green one, so BC4 is the first half of each BC5 block and BC5
 // from BC4 appends the green block of confidence 1 the encoder makes (FF FE 00 00 00 00 00 00). The same
 // bytes when from == to. Error when the size is not that of `from` at `res`.
+// A section of `levels` levels (format 5) converts level by level: every level is whole blocks.
 std::vector<std::uint8_t> convertAoSection(std::span<const std::uint8_t> section, std::uint32_t res, AoFormat from,
-                                           AoFormat to);
+                                           AoFormat to, std::uint32_t levels = 1);
 
 // Everything a bake was made with; two caches can be merged or appended to only when these are
 // equal (operator==, bit for bit). Enum fields keep the bake's numbering so the CLI can cast:
@@ -82,6 +88,7 @@ struct CacheParams {
     std::uint32_t steps = 0;       // march steps N_s
     float hybridThreshold = 0.0f;
     AoFormat aoFormat = AoFormat::Bc5;  // the AO sections' blocks (format 4; BC5 before it)
+    std::uint8_t levels = 1;            // levels of detail per probe, finest first (format 5; 1 before it)
     // File coordinates of the scene's local origin (Scene::origin: whole units rounded to float, so exact
     // here); probe positions in the table are local, file coordinates = position + origin. 0 for scenes
     // that were not re-centred (and for every format-1 file).
@@ -93,16 +100,27 @@ struct CacheParams {
 // Every range problem of `p` at once (empty: valid). Limits: res 4..16384 and a multiple of 4,
 // depthRes 1..16384, a known depth format, estimator ≤ 3, falloff ≤ 1, denoise ≤ 8, radius finite and > 0,
 // hybridThreshold finite, origin finite, a known AO format and BC4 only for traced (estimator 2): the
-// others' confidence would be lost.
+// others' confidence would be lost; levels 1..8 with res a multiple of 4 · 2^(levels − 1) and depthRes
+// of 2^(levels − 1), so every level is whole BC blocks and whole distance texels.
+
 std::vector<std::string> cacheParamProblems(const CacheParams& p);
 // Fields that differ between `a` and `b`, "res 8 vs 16" style; empty when a == b.
 std::vector<std::string> cacheParamDifferences(const CacheParams& a, const CacheParams& b);
 
-// Section sizes every probe of a cache with these parameters has.
+// Section sizes every probe of a cache with these parameters has: every level's, finest first.
 // AO: 6 faces × (res/4)² blocks × aoBlockBytes: 6·res² bytes for BC5 (1 byte per texel), half for BC4.
 std::uint64_t aoSectionSize(const CacheParams& p);
 // Distance cube: 6 faces × depthRes² texels × depthBytesPerTexel.
 std::uint64_t depthSectionSize(const CacheParams& p);
+// The most levels a bake of these sizes can store: while the next level's AO face is at least
+// kMinLevelRes and both sizes halve evenly (1 for res < 2 · kMinLevelRes).
+std::uint32_t maxLevels(std::uint32_t res, std::uint32_t depthRes);
+// Level `level` alone, as a cache of one level: res >> level, depthRes >> level, levels 1. Its section
+// sizes are the level's, and a ProbeView of it (levelView) is what the run time and tools read at
+// that level. Error for a level ≥ p.levels.
+CacheParams levelParams(const CacheParams& p, std::uint32_t level);
+// Where level `level` starts in a probe's distance section (0 for level 0).
+std::uint64_t depthLevelOffset(const CacheParams& p, std::uint32_t level);
 // Exact size of a file holding `probes` probes (header, table, payload with padding, checksum).
 std::uint64_t cacheFileSize(const CacheParams& p, std::uint64_t probes);
 
@@ -116,8 +134,10 @@ struct ProbeRecord {
     std::vector<std::uint8_t> depth;          // depthSectionSize(params) bytes
     AoFormat aoFormat = AoFormat::Bc5;        // what a bake makes; a reader gives its cache's
 };
-// `r` with its AO section in format `to` (convertAoSection; unchanged when it already is).
-ProbeRecord withAoFormat(ProbeRecord r, AoFormat to, std::uint32_t res);
+// `r` with its AO section in format `to` (convertAoSection of `levels` levels; unchanged when it already is).
+ProbeRecord withAoFormat(ProbeRecord r, AoFormat to, std::uint32_t res, std::uint32_t levels = 1);
+// `p` with the AO format `to`: what a probe in that format is held as beside these parameters.
+CacheParams withAoFormat(CacheParams p, AoFormat to);
 
 // One probe without copies: spans into a reader's mapping (valid while the reader lives) or into
 // the caller's buffers when writing.
@@ -130,6 +150,8 @@ struct ProbeView {
     AoFormat aoFormat = AoFormat::Bc5;
 };
 ProbeView viewOf(const ProbeRecord& r);
+// Level `level` of a probe of a cache with parameters `p`: spans into v's sections (in v.aoFormat).
+ProbeView levelView(const ProbeView& v, const CacheParams& p, std::uint32_t level);
 
 struct WriteOptions {
     // Called after the temporary file is complete and fsynced, right before the rename: a test

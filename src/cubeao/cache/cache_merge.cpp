@@ -11,15 +11,6 @@ namespace cubeao {
 
 using namespace cache_codec;
 
-namespace {
-
-CacheParams withAoFormatOf(CacheParams p, const CacheParams& of) {
-    p.aoFormat = of.aoFormat;
-    return p;
-}
-
-}  // namespace
-
 void appendToCache(const std::filesystem::path& path, const CacheParams& params, std::span<const ProbeView> newProbes,
                    const WriteOptions& options) {
     std::error_code ec;
@@ -84,7 +75,8 @@ void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesy
     if (const auto problems = cacheParamProblems(params); !problems.empty())
         throw Error(out.string() + ": cannot write " + aoFormatName(params.aoFormat) + " AO: " + join(problems, "; "));
     for (std::size_t k = 1; k < readers.size(); ++k)
-        if (const auto d = cacheParamDifferences(params, withAoFormatOf(readers[k].params(), params)); !d.empty())
+        if (const auto d = cacheParamDifferences(params, withAoFormat(readers[k].params(), params.aoFormat));
+            !d.empty())
             throw Error(inputs[k].string() + ": cannot merge with " + inputs[0].string() +
                         ", baked with other parameters (" + inputs[0].filename().string() + " vs this): " +
                         join(d, ", "));

@@ -112,7 +112,10 @@ void CacheReader::validate() {
     if (storedHeaderHash != headerHash)
         throw Error(where("header") + "checksum mismatch (stored " + hex64(storedHeaderHash) + ", computed " +
                     hex64(headerHash) + ")");
-    const std::size_t reservedFrom = version_ >= 4 ? hdr::reserved3 : version_ >= 2 ? hdr::reserved2 : hdr::reserved1;
+    const std::size_t reservedFrom = version_ >= 5   ? hdr::reserved4
+                                     : version_ >= 4 ? hdr::reserved3
+                                     : version_ >= 2 ? hdr::reserved2
+                                                     : hdr::reserved1;
     if ((version_ < 3 && data_[hdr::reserved0] != 0) || !allZero(data_ + reservedFrom, hdr::headerChecksum - reservedFrom))
         throw Error(where("header") + "reserved bytes are not zero");
     params_ = decodeParams(data_, version_);

@@ -53,7 +53,7 @@ private:
 // another format than the cache (`converted` holds those bytes while they are used).
 std::span<const std::uint8_t> storedAo(const ProbeView& v, const CacheParams& params, std::vector<std::uint8_t>& converted) {
     if (v.aoFormat == params.aoFormat) return v.aoConfidence;
-    converted = convertAoSection(v.aoConfidence, params.res, v.aoFormat, params.aoFormat);
+    converted = convertAoSection(v.aoConfidence, params.res, v.aoFormat, params.aoFormat, params.levels);
     return converted;
 }
 
@@ -70,9 +70,9 @@ void checkProbesToWrite(const std::filesystem::path& path, const CacheParams& pa
         if (const auto [it, fresh] = indices.emplace(v.index, i); !fresh)
             problems.push_back(probeName(i) + ": index " + std::to_string(v.index) + " is also " +
                                probeName(it->second) + "'s");
-        CacheParams own = params;  // the probe's AO may come in another format: converted on the way
-        own.aoFormat = v.aoFormat;
-        if (const std::uint64_t need = aoSectionSize(own); v.aoConfidence.size() != need || need == 0)
+        // The probe's AO may come in another format: converted on the way.
+        if (const std::uint64_t need = aoSectionSize(withAoFormat(params, v.aoFormat));
+            v.aoConfidence.size() != need || need == 0)
             problems.push_back(probeName(i) + ": AO section has " + std::to_string(v.aoConfidence.size()) + " bytes, " +
                                aoFormatName(v.aoFormat) + " at res " + std::to_string(params.res) + " needs " +
                                std::to_string(need));

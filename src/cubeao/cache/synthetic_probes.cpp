@@ -30,7 +30,7 @@ std::vector<ProbeRecord> syntheticPayloads(const CacheParams& params, float maxD
             const std::uint16_t v = std::uint16_t(60000 + rng() % 5536);
             p.depth[t] = std::uint8_t(v & 0xff), p.depth[t + 1] = std::uint8_t(v >> 8);
         }
-        out.push_back(withAoFormat(std::move(p), params.aoFormat, params.res));
+        out.push_back(withAoFormat(std::move(p), params.aoFormat, params.res, params.levels));
     }
     return out;
 }

@@ -62,19 +62,14 @@ const CacheReader& nonEmpty(const CacheReader& cache) {
     return cache;
 }
 
-// The cache's parameters with the AO format the pass holds its probes in (ProbeProjectionSettings).
-CacheParams paramsHeldAs(CacheParams p, std::optional<AoFormat> format) {
-    p.aoFormat = format.value_or(p.aoFormat);
-    return p;
-}
-
 }  // namespace
 
 ProbeProjectionPass::ProbeProjectionPass(const CacheReader& cache, std::span<const glm::vec3> positions,
                                          std::span<const std::uint32_t> indices,
                                          const ProbeProjectionSettings& settings)
-    : ProbeProjectionPass(&nonEmpty(cache), paramsHeldAs(cache.params(), settings.aoFormat), positions, indices,
-                          settings, cache.probeCount()) {}
+    : ProbeProjectionPass(&nonEmpty(cache),
+                          withAoFormat(cache.params(), settings.aoFormat.value_or(cache.params().aoFormat)), positions,
+                          indices, settings, cache.probeCount()) {}
 
 ProbeProjectionPass::ProbeProjectionPass(const CacheParams& params, std::span<const glm::vec3> positions,
                                          std::span<const std::uint32_t> indices,
@@ -85,9 +80,9 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
                                          std::span<const glm::vec3> meshPositions,
                                          std::span<const std::uint32_t> meshIndices,
                                          const ProbeProjectionSettings& settings, std::size_t expectedProbes)
-    : source_(cache, params), settings_(settings), ranking_(settings.lookaheadFrames) {
-    res_ = int(params.res);
-    depthRes_ = int(params.depthRes);
+    : source_(cache, params, settings.level), settings_(settings), ranking_(settings.lookaheadFrames) {
+    res_ = int(source_.params().res);
+    depthRes_ = int(source_.params().depthRes);
 
     // The grid ranks probes per cell as the pass will, less the confidence (projection.h), reading the
     // distance texel straight from the stored bytes.

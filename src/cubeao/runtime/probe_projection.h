@@ -43,6 +43,9 @@ struct ProbeProjectionSettings {
     // so that probes baked while it runs (live placement's horizon probes carry a confidence) can join
     // a traced cache stored as BC4 (its probes are then converted as they load: confidence 1).
     std::optional<AoFormat> aoFormat;
+    // The level of detail every probe of a cache with levels is held at (0: the finest; Error for a
+    // level the cache lacks): `render --level`, which measures what each level costs the picture.
+    std::uint32_t level = 0;
 };
 
 class ProbeProjectionPass : public AoPass {

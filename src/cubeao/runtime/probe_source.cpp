@@ -10,7 +10,8 @@
 
 namespace cubeao {
 
-ProbeSource::ProbeSource(const CacheReader* cache, const CacheParams& params) : cache_(cache), params_(params) {
+ProbeSource::ProbeSource(const CacheReader* cache, const CacheParams& params, std::uint32_t level)
+    : cache_(cache), stored_(params), params_(levelParams(params, level)), level_(level) {
     if (!cache) return;
     cache->adviseRandomAccess();  // probes are read by priority, each section asked for (prefetch)
     probes_.resize(cache->probeCount());
@@ -25,12 +26,16 @@ float ProbeSource::distanceScale(ProbeId id) const {
 }
 
 ProbeId ProbeSource::add(ProbeRecord record) {
-    if (record.aoFormat != params_.aoFormat) {
-        CacheParams own = params_;
-        own.aoFormat = record.aoFormat;
-        if (record.aoConfidence.size() == aoSectionSize(own))
-            record = withAoFormat(std::move(record), params_.aoFormat, params_.res);
+    if (const CacheParams own = withAoFormat(stored_, record.aoFormat);
+        stored_.levels > 1 && record.aoConfidence.size() == aoSectionSize(own) &&
+        record.depth.size() == depthSectionSize(own)) {  // every level, as a bake with the cache's settings makes
+        const ProbeView level = levelView(viewOf(record), own, level_);
+        record.aoConfidence.assign(level.aoConfidence.begin(), level.aoConfidence.end());
+        record.depth.assign(level.depth.begin(), level.depth.end());
     }
+    if (record.aoFormat != params_.aoFormat &&
+        record.aoConfidence.size() == aoSectionSize(withAoFormat(params_, record.aoFormat)))
+        record = withAoFormat(std::move(record), params_.aoFormat, params_.res);
     if (record.aoConfidence.size() != aoSectionSize(params_) || record.depth.size() != depthSectionSize(params_))
         throw Error("probe " + std::to_string(record.index) + ": " + std::to_string(record.aoConfidence.size()) +
                     " AO and " + std::to_string(record.depth.size()) + " distance bytes; this probe set needs " +
@@ -52,6 +57,7 @@ ProbeView ProbeSource::view(ProbeId id) const {
     const Probe& p = probes_[index(id)];
     if (p.added) return viewOf(*p.added);
     ProbeView v = cache_->probe(index(id));
+    if (stored_.levels > 1) v = levelView(v, stored_, level_);
     if (v.aoFormat != params_.aoFormat) {
         convertedAo_ = convertAoSection(v.aoConfidence, params_.res, v.aoFormat, params_.aoFormat);
         v.aoConfidence = convertedAo_;
@@ -74,8 +80,9 @@ void ProbeSource::releaseAll() const {
 
 float ProbeSource::distance(ProbeId id, std::size_t texel) const {
     const Probe& p = probes_[index(id)];
-    const std::span<const std::uint8_t> bytes = p.added ? std::span<const std::uint8_t>(p.added->depth)
-                                                        : cache_->unverifiedDepth(index(id));
+    const std::span<const std::uint8_t> bytes =
+        p.added ? std::span<const std::uint8_t>(p.added->depth)
+                : cache_->unverifiedDepth(index(id)).subspan(depthLevelOffset(stored_, level_));
     const std::uint32_t size = depthBytesPerTexel(params_.depthFormat);
     std::uint32_t stored = 0;
     if (size == 2) {

@@ -22,10 +22,13 @@ class ProbeSource {
 public:
     // cache may be null: start empty. `params` are the cache's, except that the AO format may differ
     // (a viewer holds a BC4 cache as BC5 so live placement's probes, which carry confidence, can join):
-    // then view() converts each cache probe's AO (convertAoSection).
-    ProbeSource(const CacheReader* cache, const CacheParams& params);
+    // then view() converts each cache probe's AO (convertAoSection). The source serves level `level`
+    // of every probe (a cache with levels of detail; Error for a level it lacks): params() are that
+    // level's (levelParams: one level), and added probes must have its sizes.
+    ProbeSource(const CacheReader* cache, const CacheParams& params, std::uint32_t level = 0);
 
-    const CacheParams& params() const { return params_; }
+    const CacheParams& params() const { return params_; }  // of the level served: one level
+    std::uint32_t level() const { return level_; }
     const ProbeSet& probes() const { return set_; }
     std::size_t size() const { return set_.size(); }
     bool isLive(ProbeId id) const { return set_.isLive(id); }
@@ -33,8 +36,9 @@ public:
     // Multiplies a stored distance texel into world units on the GPU (r16unorm: maxDistance; floats: 1).
     float distanceScale(ProbeId id) const;
 
-    // A record with the cache's section sizes (Error otherwise, naming them), its AO converted to
-    // params().aoFormat when it is in the other one; returns its id.
+    // A record with the sections of the level served or of every level of the cache (kept: the level
+    // served) (Error otherwise, naming them), its AO converted to params().aoFormat when it is in the
+    // other one; returns its id.
     ProbeId add(ProbeRecord record);
     void remove(ProbeId id);  // Error for an unknown or removed id
 
@@ -57,7 +61,9 @@ private:
         std::unique_ptr<ProbeRecord> added;  // null: cache probe `id`
     };
     const CacheReader* cache_ = nullptr;
+    CacheParams stored_;  // the cache's (in params_'s AO format), every level
     CacheParams params_;
+    std::uint32_t level_ = 0;
     ProbeSet set_;
     std::vector<Probe> probes_;  // by id, beside set_
     mutable std::vector<std::uint8_t> convertedAo_;  // view()'s AO of a cache probe in another format
