@@ -4,17 +4,24 @@
 // world area of one probe texel on the surface, and the per-point loop over candidate probes with the
 // soft best-two blend.
 //
-// The loop reads probes through five functions its includer provides; in GLSL they are globals the
+// The loop reads probes through seven functions its includer provides; in GLSL they are globals the
 // shader defines (declared below), in C++ they are members of a reader object passed first
 // (projectCandidates is then a template over the reader's type):
 //   uint projectionCandidate(int k)                         probe index of candidate k, kNoProbe = end
 //   uint projectionSlot(uint probe)                          where its texels are (run-time residency),
 //                                                            kNoSlot = not resident
+//   int projectionLevel(uint probe)                          the level of detail of those texels (0: full
+//                                                            resolution; k: faces of res >> k, depthRes >> k)
+//   float projectionQualityScale(uint probe)                 multiplies its quality (1 when settled)
 //   vec3 projectionProbePosition(uint probe)
 //   float projectionDistance(uint probe, uint slot, int face, vec2 sc)  decoded distance-cube texel, 0 = empty
-//   vec2 projectionAoConfidence(uint slot, int face, vec2 sc)  (AO, confidence) texel
+//   vec2 projectionAoConfidence(uint probe, uint slot, int face, vec2 sc)  (AO, confidence) texel
 // The slot is read once per candidate and handed to the texel reads (one table read, not three).
-// Texels are those cubeTexelOf(sc, resolution) picks on `face` (cube.h).
+// Texels are those cubeTexelOf(sc, resolution at the level) picks on `face` (cube.h). A probe held at a
+// coarser level ranks by its coarser texels' footprint (probeTexelArea at res >> level) and is tested
+// with that level's depth bias, so the blend moves weight to a finer probe where one sees the point;
+// when its full resolution arrives, the quality scale takes its weight there over a few frames
+// instead of at once (a level change is a blend, like a probe change).
 #pragma once
 
 #include "cube.h"
@@ -59,9 +66,11 @@ struct ProjectedAo {
 #ifndef __cplusplus
 uint projectionCandidate(int k);
 uint projectionSlot(uint probe);
+int projectionLevel(uint probe);
+float projectionQualityScale(uint probe);
 vec3 projectionProbePosition(uint probe);
 float projectionDistance(uint probe, uint slot, int face, vec2 sc);
-vec2 projectionAoConfidence(uint slot, int face, vec2 sc);
+vec2 projectionAoConfidence(uint probe, uint slot, int face, vec2 sc);
 #endif
 
 // AO at world point x with unit normal n (turned to the camera) from up to `count` candidates: per
@@ -88,10 +97,16 @@ CUBEAO_READER_FN ProjectedAo projectCandidates(CUBEAO_READER(reader) int count, 
         float cosine = -dot(n, d) / distance;
         vec2 sc;
         int face = cubeFaceOf(d, sc);
-        if (!probeSeesPoint(CUBEAO_READ(reader) projectionDistance(probe, slot, face, sc), distance, cosine, p))
+        ProjectionParams q = p;  // at the probe's level
+        int level = CUBEAO_READ(reader) projectionLevel(probe);
+        q.res = p.res >> level;
+        q.depthRes = max(p.depthRes >> level, 1);
+        if (!probeSeesPoint(CUBEAO_READ(reader) projectionDistance(probe, slot, face, sc), distance, cosine, q))
             continue;
-        vec2 v = CUBEAO_READ(reader) projectionAoConfidence(slot, face, sc);
-        vec2 r = vec2(v.y / probeTexelArea(sc, distance, cosine, p.res, p.minFacing), v.x);
+        vec2 v = CUBEAO_READ(reader) projectionAoConfidence(probe, slot, face, sc);
+        vec2 r = vec2(CUBEAO_READ(reader) projectionQualityScale(probe) * v.y /
+                          probeTexelArea(sc, distance, cosine, q.res, p.minFacing),
+                      v.x);
         if (!(r.x > 0.0f)) continue;
         if (r.x > best[0].x) {
             best[2] = best[1];

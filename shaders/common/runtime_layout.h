@@ -25,6 +25,9 @@ CUBEAO_CONST int kGBufferNormalUnit = 1;  // camera G-buffer: view-space normal 
 CUBEAO_CONST int kAoInputUnit = 2;        // blur, composite: the AO to filter or shade with (R32F)
 CUBEAO_CONST int kProbeAoUnit = 3;        // projection: probe atlas of AO + confidence (BC5: r = AO, g = confidence)
 CUBEAO_CONST int kProbeDistanceUnit = 4;  // projection: probe atlas of distance cubes (value · distanceScale)
+// The coarse tier (probe_atlas.h): every probe at one coarser level of detail, where the budget holds it.
+CUBEAO_CONST int kProbeCoarseAoUnit = 5;
+CUBEAO_CONST int kProbeCoarseDistanceUnit = 6;
 
 // Image units.
 CUBEAO_CONST int kAoImageUnit = 0;           // R32F AO written by project, ssao/* and each blur pass
@@ -80,9 +83,9 @@ struct ProbeEntry {
     vec3 position;        // world space
     float distanceScale;  // a distance-atlas value times this is the distance (r16unorm: maxDistance; float formats: 1)
     uint slot;            // atlas slot holding its texels (probe_residency.h), kNoSlot = not resident
-    uint tile;            // where that slot lies in the atlases (packAtlasTile), kNoSlot = not resident
-    uint padding1;
-    uint padding2;
+    uint tile;            // where its texels lie (packAtlasTile) in the atlases of `level`, kNoSlot = neither
+    uint level;           // 0: the full-resolution atlases (slot's tile); else the coarse tier's, at that level
+    float qualityScale;   // multiplies its quality: 1, or less while its full resolution fades in (probe_atlas.h)
 };
 
 // ProbeEntry::slot of a probe whose texels are not on the GPU.
@@ -238,7 +241,8 @@ static_assert(sizeof(PassCounters) == 32 && offsetof(PassCounters, fetchesHigh) 
               offsetof(PassCounters, uncovered) == 8 && offsetof(PassCounters, fallbackProbe) == 12 &&
               offsetof(PassCounters, geometry) == 16);
 static_assert(sizeof(ProbeEntry) == 32 && offsetof(ProbeEntry, distanceScale) == 12 && offsetof(ProbeEntry, slot) == 16 &&
-              offsetof(ProbeEntry, tile) == 20);
+              offsetof(ProbeEntry, tile) == 20 && offsetof(ProbeEntry, level) == 24 &&
+              offsetof(ProbeEntry, qualityScale) == 28);
 static_assert(sizeof(FallbackTile) == 16 && offsetof(FallbackTile, mask1) == 4 &&
               offsetof(FallbackTile, listed) == 8);
 static_assert(sizeof(FallbackList) == 16 && offsetof(FallbackList, groupsZ) == 8 &&

@@ -39,6 +39,9 @@ layout(binding = kGBufferNormalUnit) uniform sampler2D normalTex;
 // Probe atlases (probe_projection.h ProbeAtlasLayout): a slot is a tile, layer 6·page + face.
 layout(binding = kProbeAoUnit) uniform sampler2DArray aoTex;              // res² tiles
 layout(binding = kProbeDistanceUnit) uniform sampler2DArray distanceTex;  // depthRes² tiles
+// The coarse tier (ProbeEntry::level > 0): (res >> level)² and (depthRes >> level)² tiles.
+layout(binding = kProbeCoarseAoUnit) uniform sampler2DArray coarseAoTex;
+layout(binding = kProbeCoarseDistanceUnit) uniform sampler2DArray coarseDistanceTex;
 layout(r32f, binding = kAoImageUnit) writeonly uniform image2D aoOut;
 #ifdef PROJECT_DIAGNOSTICS
 layout(rgba32f, binding = kDiagnosticsImageUnit) writeonly uniform image2D diagnosticsOut;
@@ -73,14 +76,21 @@ uint projectionCandidate(int k) {
     return secondList ? residentCandidates[residentBase + uint(k)] : candidates[cellBase + uint(k)];
 }
 uint projectionSlot(uint probe) { return probes[probe].tile; }
+int projectionLevel(uint probe) { return int(probes[probe].level); }
+float projectionQualityScale(uint probe) { return probes[probe].qualityScale; }
 vec3 projectionProbePosition(uint probe) { return probes[probe].position; }
 float projectionDistance(uint probe, uint slot, int face, vec2 sc) {
     fetches += 1u;
-    return texelFetch(distanceTex, atlasTexel(slot, face, sc, pass.params.depthRes), 0).r * probes[probe].distanceScale;
+    int level = int(probes[probe].level);
+    ivec3 at = atlasTexel(slot, face, sc, max(pass.params.depthRes >> level, 1));
+    float stored = level == 0 ? texelFetch(distanceTex, at, 0).r : texelFetch(coarseDistanceTex, at, 0).r;
+    return stored * probes[probe].distanceScale;
 }
-vec2 projectionAoConfidence(uint slot, int face, vec2 sc) {
+vec2 projectionAoConfidence(uint probe, uint slot, int face, vec2 sc) {
     fetches += 1u;
-    return texelFetch(aoTex, atlasTexel(slot, face, sc, pass.params.res), 0).rg;  // r = AO, g = confidence
+    int level = int(probes[probe].level);
+    ivec3 at = atlasTexel(slot, face, sc, pass.params.res >> level);
+    return level == 0 ? texelFetch(aoTex, at, 0).rg : texelFetch(coarseAoTex, at, 0).rg;  // r = AO, g = confidence
 }
 
 #ifdef PROJECT_DIAGNOSTICS
@@ -94,8 +104,10 @@ vec4 probeDiagnostics(ProjectedAo projected, bool fallbackPath, vec3 x, vec3 n) 
     float cosine = -dot(n, d) / distance;
     vec2 sc;
     int face = cubeFaceOf(d, sc);
-    float footprint = sqrt(probeTexelArea(sc, distance, cosine, pass.params.res, pass.params.minFacing));
-    float confidence = texelFetch(aoTex, atlasTexel(slot, face, sc, pass.params.res), 0).g;
+    int res = pass.params.res >> int(probes[probe].level);
+    float footprint = sqrt(probeTexelArea(sc, distance, cosine, res, pass.params.minFacing));
+    ivec3 at = atlasTexel(slot, face, sc, res);
+    float confidence = probes[probe].level == 0u ? texelFetch(aoTex, at, 0).g : texelFetch(coarseAoTex, at, 0).g;
     return vec4(float(probe), footprint, confidence, fallbackPath ? 2.0 : 1.0);
 }
 #endif

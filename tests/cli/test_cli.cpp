@@ -411,6 +411,21 @@ TEST(CliCache, BakeStoresLevelsOfDetail) {
     EXPECT_EQ(resumed.code, 1);
     EXPECT_TRUE(contains(resumed.out, "levels 1 vs 2") || contains(resumed.out, "levels 2 vs 1")) << resumed.out;
 
+    // Fewer levels are a prefix of each section: merge --levels 1 gives the bake without levels back;
+    // more than the inputs have is refused, naming bake --levels.
+    const fs::path one = dir.path() / "one.cubeao";
+    const CliRun m = run("merge " + one.string() + " " + levels.string() + " --levels 1 --json");
+    ASSERT_EQ(m.code, 0) << m.out;
+    EXPECT_EQ(lastLine(m.out)["levels"], 1);
+    EXPECT_EQ(fileBytes(one), fileBytes(plain));
+    const CliRun more =
+        run("merge " + (dir.path() / "more.cubeao").string() + " " + plain.string() + " --levels 2", true);
+    EXPECT_EQ(more.code, 1);
+    EXPECT_TRUE(contains(more.out, "cannot merge 2 levels of detail from a cache of 1") &&
+                contains(more.out, "bake --levels 2"))
+        << more.out;
+    EXPECT_FALSE(fs::exists(dir.path() / "more.cubeao"));
+
     const fs::path ep = dir.path() / "ep", el = dir.path() / "el";
     ASSERT_EQ(run("export " + plain.string() + " --out " + ep.string()).code, 0);
     ASSERT_EQ(run("export " + levels.string() + " --out " + el.string()).code, 0);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <random>
 #include <string>
@@ -173,6 +174,100 @@ TEST_F(ResidencyGl, TheGpuBytesAllocatedNeverExceedTheBudget) {
         EXPECT_EQ(measured, p->gpuBytes()) << "the pass's own count must be what GL allocated";
         EXPECT_GE(p->residency().slots(), 1u);
     }
+}
+
+// A cache with levels of detail under a budget that holds two of six probes at full resolution: the
+// other four are drawn from the coarse tier (residency_planner.h coarseTierLevel), so no pixel is left
+// to the screen-space fallback that all six resident cover, and the frame is close to the all-resident
+// one; the plain cache under the same budget leaves pixels to the fallback. The GPU bytes stay within
+// the budget.
+TEST_F(ResidencyGl, ProbesWithoutASlotAreDrawnAtTheCoarseTier) {
+    BakeSettings s = test::bakeSettings(Estimator::Traced, 32, 1.0f, 4);
+    s.levels = 2;  // 32², 16²
+    s = resolveBakeSettings(s, 1.0f);
+    const std::string file = (*dir_ / "levels.cubeao").string();
+    test::bakeCache(test::boxRoom(), roomProbes(), s, file);
+    const CacheReader cache(file);
+    ASSERT_EQ(cache.params().levels, 2u);
+    const std::size_t perProbe = probeGpuBytes(levelParams(cache.params(), 0));
+    const std::size_t coarse = probeGpuBytes(levelParams(cache.params(), 1));
+    // The full-resolution pass less four probes, plus the tier (six at level 1), plus feedback slack;
+    // two probes a frame, so that the tier is at most a quarter of what the budget leaves for probes
+    // and their staging (coarseTierLevel).
+    const std::size_t upload = 2 * perProbe;
+    const std::size_t budget = pass(cache, 0, upload)->gpuBytes() - (roomProbes().size() - 2) * perProbe +
+                               roomProbes().size() * coarse + 1024;
+    const CameraView v = view({1.5f, 1.2f, 2.0f}, {7.5f, 0.3f, 0.5f});  // down the room: far probes seen
+    const auto settle = [&](FrameRenderer& r) {
+        for (int f = 0; f < 12; ++f) r.render(v, 0);
+        return r.readRawAo();
+    };
+    auto all = renderer(pass(cache));
+    const Image expected = settle(*all);
+    const double allUncovered = dynamic_cast<ProbeProjectionPass&>(all->method()).uncoveredFraction();
+
+    auto tiered = renderer(pass(cache, budget, upload));
+    auto& projection = dynamic_cast<ProbeProjectionPass&>(tiered->method());
+    const Image drawn = settle(*tiered);
+    const auto maeTo = [&](const Image& image) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < image.pixels.size(); ++i)
+            sum += std::abs(double(image.pixels[i]) - double(expected.pixels[i]));
+        return sum / double(image.pixels.size());
+    };
+    ASSERT_LT(projection.residency().slots(), roomProbes().size());
+    EXPECT_EQ(projection.residency().coarseLevel(), 1u);
+    EXPECT_EQ(projection.residency().coarseHeld(), roomProbes().size());
+    EXPECT_LE(projection.allocatedGpuBytes(), budget);
+    EXPECT_EQ(projection.allocatedGpuBytes(), projection.gpuBytes());
+    EXPECT_LE(projection.uncoveredFraction(), allUncovered + 1e-9) << "no pixel left that all six cover";
+    const double mae = maeTo(drawn);
+    EXPECT_GT(mae, 0.0) << "some pixels take a coarse probe";
+
+    // The same budget less the tier, for a cache without levels: no tier, so some pixels take no probe.
+    const std::string plainFile = (*dir_ / "plain.cubeao").string();
+    BakeSettings one = s;
+    one.levels = 1;
+    test::bakeCache(test::boxRoom(), roomProbes(), one, plainFile);
+    const CacheReader plain(plainFile);
+    auto untiered = renderer(pass(plain, budget - roomProbes().size() * coarse, upload));
+    auto& plainProjection = dynamic_cast<ProbeProjectionPass&>(untiered->method());
+    const double maeWithout = maeTo(settle(*untiered));
+    EXPECT_EQ(plainProjection.residency().coarseLevel(), 0u);
+    std::printf("[ coarse tier ] uncovered: all resident %.4f, tier %.4f, no tier %.4f; MAE to all resident: "
+                "tier %.4f, no tier %.4f\n",
+                allUncovered, projection.uncoveredFraction(), plainProjection.uncoveredFraction(), mae, maeWithout);
+    EXPECT_LT(mae, 0.5 * maeWithout) << "a coarse probe is closer to its full-resolution self than the fallback";
+
+    // Walking to the other end loads other probes in bounded frames: each one's quality scale (the probe
+    // table) rises from its coarse level's, 4^-1, to 1 over a few frames, at full resolution (level 0).
+    const auto table = [&] {
+        std::vector<kernel::ProbeEntry> entries(roomProbes().size());
+        glGetNamedBufferSubData(projection.residency().tableBuffer(), 0,
+                                GLsizeiptr(entries.size() * sizeof(entries[0])), entries.data());
+        return entries;
+    };
+    std::vector<float> scales;
+    const std::size_t loadsBefore = projection.residency().stats().loads;
+    for (int f = 0; f < 40; ++f) {
+        const float x = std::min(1.5f + 0.2f * float(f), 6.5f);  // 25 steps, then 15 frames there
+        tiered->render(view({x, 1.2f, 2.0f}, {x + 2.0f, 0.3f, 0.5f}), 0);
+        for (const kernel::ProbeEntry& e : table())
+            if (e.level == 0 && e.tile != kernel::kNoSlot && e.qualityScale < 1.0f) scales.push_back(e.qualityScale);
+    }
+    EXPECT_GT(projection.residency().stats().loads, loadsBefore) << "the walk loads other probes";
+    ASSERT_FALSE(scales.empty()) << "a probe loaded over its coarse level fades in";
+    for (const float q : scales) EXPECT_GE(q, 0.25f) << "from the coarse level's quality, never below";
+    for (const kernel::ProbeEntry& e : table()) {
+        EXPECT_EQ(e.qualityScale, 1.0f) << "settled after the fade";
+        if (e.tile != kernel::kNoSlot) {
+            EXPECT_TRUE(e.level == 0 || e.level == 1);
+        }
+    }
+    const auto fellBack = [](const ProbeProjectionPass& p) {
+        return p.pixelShares().uncovered + p.pixelShares().fallbackProbe;
+    };
+    EXPECT_GT(fellBack(plainProjection), fellBack(projection)) << "without the tier, pixels fall back";
 }
 
 // A walk from one end of the room to the other and back with room for two probes: probes are evicted

@@ -141,6 +141,18 @@ TEST(ResidencyPlanner, TheStagingShrinksWithThePool) {
     EXPECT_EQ(residencyPool(b).uploadBound, 3 * kProbe);
 }
 
+// The coarse tier's level: the finest that holds every probe in a quarter of what the budget leaves.
+TEST(ResidencyPlanner, TheCoarseTierTakesTheFinestLevelThatAQuarterOfTheBudgetHolds) {
+    const std::vector<std::size_t> levels = {1000, 250, 64, 16};  // bytes of one probe at levels 0..3
+    EXPECT_EQ(cubeao::coarseTierLevel(levels, 10, 0, 0), 0u) << "no budget: every probe at full resolution";
+    EXPECT_EQ(cubeao::coarseTierLevel(levels, 10, 100 + 10000, 100), 1u) << "10 · 250 ≤ 10000 / 4";
+    EXPECT_EQ(cubeao::coarseTierLevel(levels, 10, 100 + 9999, 100), 2u) << "10 · 250 > 9999 / 4 ≥ 10 · 64";
+    EXPECT_EQ(cubeao::coarseTierLevel(levels, 100, 100 + 6400, 100), 3u);
+    EXPECT_EQ(cubeao::coarseTierLevel(levels, 100, 100 + 6399, 100), 0u) << "not even the coarsest fits: no tier";
+    EXPECT_EQ(cubeao::coarseTierLevel(std::vector<std::size_t>{1000}, 10, 5000, 100), 0u) << "a cache of one level";
+    EXPECT_EQ(cubeao::coarseTierLevel(levels, 10, 50, 100), 0u) << "a budget below the fixed bytes";
+}
+
 TEST(ResidencyPlanner, EachFrameLoadsAtMostTheUploadBoundAndReadsAheadWhatComesNext) {
     ResidencyPlanner planner(20, kProbe, 2 * kProbe + kProbe / 2);  // 2.5 probes a frame: 2 loads
     planner.resizeProbes(20);

@@ -104,6 +104,8 @@ TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
     EXPECT_EQ(unitOf(p, "normalTex"), k::kGBufferNormalUnit);
     EXPECT_EQ(unitOf(p, "aoTex"), k::kProbeAoUnit);
     EXPECT_EQ(unitOf(p, "distanceTex"), k::kProbeDistanceUnit);
+    EXPECT_EQ(unitOf(p, "coarseAoTex"), k::kProbeCoarseAoUnit);
+    EXPECT_EQ(unitOf(p, "coarseDistanceTex"), k::kProbeCoarseDistanceUnit);
     EXPECT_EQ(unitOf(p, "aoOut"), k::kAoImageUnit);
     expectPassCounters(p, "project");
     expectProjectBlock(p, "project");
@@ -114,6 +116,8 @@ TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
     EXPECT_EQ(variableOffset(p, "probes[0].distanceScale"), GLint(offsetof(k::ProbeEntry, distanceScale)));
     EXPECT_EQ(variableOffset(p, "probes[0].slot"), GLint(offsetof(k::ProbeEntry, slot)));
     EXPECT_EQ(variableOffset(p, "probes[0].tile"), GLint(offsetof(k::ProbeEntry, tile)));
+    EXPECT_EQ(variableOffset(p, "probes[0].level"), GLint(offsetof(k::ProbeEntry, level)));
+    EXPECT_EQ(variableOffset(p, "probes[0].qualityScale"), GLint(offsetof(k::ProbeEntry, qualityScale)));
     EXPECT_EQ(resourceProperty(p, GL_BUFFER_VARIABLE, "probes[0].position", GL_TOP_LEVEL_ARRAY_STRIDE),
               GLint(sizeof(k::ProbeEntry)));
     EXPECT_EQ(blockBinding(p, "Feedback"), k::kProbeFeedbackBuffer);
@@ -395,8 +399,9 @@ TEST_F(GlTest, BakeShadersMatchTheSharedLayout) {
 
 // Binding numbers are distinct per kind, so one number never means two things across the passes.
 TEST(RuntimeLayout, BindingsAreDistinctPerKind) {
-    const std::vector<int> units = {k::kGBufferDepthUnit, k::kGBufferNormalUnit, k::kAoInputUnit, k::kProbeAoUnit,
-                                    k::kProbeDistanceUnit};
+    const std::vector<int> units = {k::kGBufferDepthUnit,    k::kGBufferNormalUnit, k::kAoInputUnit,
+                                    k::kProbeAoUnit,         k::kProbeDistanceUnit, k::kProbeCoarseAoUnit,
+                                    k::kProbeCoarseDistanceUnit};
     // The placement count's buffers and the BVH's share the binding space with the run-time passes.
     // Uniform blocks are numbered apart across the run-time, placement, the bake and the viewer, whose
     // passes can share one context (live placement bakes in the viewer).

@@ -26,6 +26,7 @@ struct MergeArgs {
     std::string probes;
     std::string ao;          // empty: the first input's AO format
     std::size_t shards = 0;  // 0: not given
+    std::uint32_t levels = 0;  // 0: the first input's
     bool json = false;
 };
 
@@ -108,7 +109,8 @@ void run(const MergeArgs& a) {
         Progress progress("merge", total, "probes");
         WriteOptions options;
         options.progress = &progress;
-        mergeCaches(a.out, std::vector<std::filesystem::path>(a.inputs.begin(), a.inputs.end()), options, ao);
+        mergeCaches(a.out, std::vector<std::filesystem::path>(a.inputs.begin(), a.inputs.end()), options, ao,
+                    a.levels > 0 ? std::optional<std::uint32_t>(a.levels) : std::nullopt);
     }
     const CacheReader merged(a.out);
     std::printf("merge: %zu caches, %zu probes -> %s (%s AO, %.4f bytes per texel)\n", a.inputs.size(),
@@ -119,6 +121,7 @@ void run(const MergeArgs& a) {
                    {"inputs", a.inputs},
                    {"complete", !a.probes.empty()},
                    {"ao_format", aoFormatName(merged.params().aoFormat)},
+                   {"levels", merged.params().levels},
                    {"bytes_per_texel", merged.bytesPerTexel()},
                    {"file_bytes", merged.fileSize()}});
 }
@@ -135,6 +138,10 @@ void addMerge(CLI::App& app) {
                     "exactly its probes, naming the missing ones");
     cmd->add_option("--shards", a->shards, "N of the shards' --shard I/N: a refusal also names the shards (I/N) "
                                            "with missing probes")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--levels", a->levels,
+                    "Levels of detail OUT keeps, the finest first (default: the first input's; inputs may have "
+                    "more, not fewer: levels come from a bake's full-resolution data)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--ao", a->ao, "AO format of OUT: bc4 (AO alone; traced caches) | bc5 (AO + confidence); "
                                    "inputs in the other are converted (default: the first input's)");

@@ -22,7 +22,9 @@ inline nlohmann::json residencyJson(const ProbeProjectionPass& p) {
             {"evictions", r.evictions},
             {"upload_bound_bytes", p.residency().uploadBound()},
             {"max_frame_upload_bytes", r.maxFrameUploadBytes},
-            {"damaged", r.damaged}};
+            {"damaged", r.damaged},
+            {"coarse_level", r.coarseLevel},
+            {"coarse_bytes", r.coarseBytes}};
 }
 
 // Median ms per pass over a run's frames (each pass's own median; ao_blur and gpu_total are the

@@ -282,8 +282,12 @@ void appendToCache(const std::filesystem::path& path, const CacheParams& params,
 // index may occur twice (the same probe baked in two shards); errors name the input file. The AO
 // format is the one parameter inputs may differ in: `out` is written in `aoFormat` (default: the
 // first input's) and every probe in another is converted (convertAoSection), so `merge OUT IN`
-// converts a cache (BC4 only for traced caches, as cacheParamProblems says).
+// converts a cache (BC4 only for traced caches, as cacheParamProblems says). `levels` keeps that many
+// levels of detail (default: the first input's), the finest first: inputs may have more (their coarser
+// levels are left out), not fewer (levels are made from the bake's full-resolution data: Error naming
+// `bake --levels`).
 void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesystem::path>& inputs,
-                 const WriteOptions& options = {}, std::optional<AoFormat> aoFormat = {});
+                 const WriteOptions& options = {}, std::optional<AoFormat> aoFormat = {},
+                 std::optional<std::uint32_t> levels = {});
 
 }  // namespace cubeao

@@ -63,7 +63,7 @@ void appendToCache(const std::filesystem::path& path, const CacheParams& params,
 }
 
 void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesystem::path>& inputs,
-                 const WriteOptions& options, std::optional<AoFormat> aoFormat) {
+                 const WriteOptions& options, std::optional<AoFormat> aoFormat, std::optional<std::uint32_t> levels) {
     if (inputs.empty()) throw Error(out.string() + ": merge needs at least one input cache");
     std::vector<CacheReader> readers;
     readers.reserve(inputs.size());
@@ -72,11 +72,24 @@ void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesy
     // converted to it as they are written (writeCache), so inputs may differ in that alone.
     CacheParams params = readers.front().params();
     params.aoFormat = aoFormat.value_or(params.aoFormat);
+    params.levels = std::uint8_t(std::min<std::uint32_t>(levels.value_or(params.levels), 255));
     if (const auto problems = cacheParamProblems(params); !problems.empty())
-        throw Error(out.string() + ": cannot write " + aoFormatName(params.aoFormat) + " AO: " + join(problems, "; "));
+        throw Error(out.string() + ": cannot write " + aoFormatName(params.aoFormat) + " AO in " +
+                    std::to_string(params.levels) + (params.levels == 1 ? " level" : " levels") + ": " +
+                    join(problems, "; "));
+    // The inputs' parameters as the output holds them: its AO format, and its levels where they have
+    // at least as many (the finest come first, so fewer levels are a prefix of each section).
+    const auto held = [&](CacheParams p) {
+        if (p.levels < params.levels)
+            throw Error(out.string() + ": cannot merge " + std::to_string(params.levels) + " levels of detail from a "
+                        "cache of " + std::to_string(p.levels) + ": levels are made from the bake's full-resolution "
+                        "data (bake --levels " + std::to_string(params.levels) + ")");
+        p.levels = params.levels;
+        return withAoFormat(p, params.aoFormat);
+    };
+    held(readers.front().params());
     for (std::size_t k = 1; k < readers.size(); ++k)
-        if (const auto d = cacheParamDifferences(params, withAoFormat(readers[k].params(), params.aoFormat));
-            !d.empty())
+        if (const auto d = cacheParamDifferences(params, held(readers[k].params())); !d.empty())
             throw Error(inputs[k].string() + ": cannot merge with " + inputs[0].string() +
                         ", baked with other parameters (" + inputs[0].filename().string() + " vs this): " +
                         join(d, ", "));
@@ -98,8 +111,11 @@ void mergeCaches(const std::filesystem::path& out, const std::vector<std::filesy
                 throw Error(probe + " at " + fmtVec(readers[k].position(i)) + " is also " + other(it->second));
             if (const auto [it, fresh] = indices.emplace(readers[k].index(i), std::pair(k, i)); !fresh)
                 throw Error(probe + " has index " + std::to_string(readers[k].index(i)) + ", as " + other(it->second));
-            all.push_back(readers[k].probe(i));  // checks the probe's checksum: reads its payload
-            pacer.read(all.back().aoConfidence.size() + all.back().depth.size());
+            ProbeView v = readers[k].probe(i);  // checks the probe's checksum: reads its payload
+            pacer.read(v.aoConfidence.size() + v.depth.size());
+            v.aoConfidence = v.aoConfidence.first(aoSectionSize(withAoFormat(params, v.aoFormat)));
+            v.depth = v.depth.first(depthSectionSize(params));
+            all.push_back(v);
         }
     // Index order: shards merged in any order give the same file as one unsharded bake.
     std::stable_sort(all.begin(), all.end(), [](const ProbeView& x, const ProbeView& y) { return x.index < y.index; });

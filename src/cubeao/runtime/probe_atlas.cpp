@@ -24,6 +24,7 @@ constexpr std::size_t kStagingRegions = 2;
 constexpr std::size_t kDefaultUploadBytes = std::size_t(8) << 20;
 constexpr std::size_t kReleaseBytes = std::size_t(64) << 20;  // unbounded updates drop cache pages this often
 constexpr std::uint32_t kNoSlot = kernel::kNoSlot;
+constexpr std::int64_t kFadeFrames = 8;  // a probe's full resolution fades in over its coarse level
 
 GLenum aoInternalFormat(AoFormat f) { return f == AoFormat::Bc4 ? GL_COMPRESSED_RED_RGTC1 : GL_COMPRESSED_RG_RGTC2; }
 GLenum depthInternalFormat(DepthFormat f) {
@@ -43,6 +44,32 @@ std::size_t feedbackWords(std::size_t probes) { return std::max<std::size_t>(1, 
 // project.comp's atlasTexel reads them.
 glm::ivec3 slotCorner(const ProbeAtlasLayout& l, SlotId slot, int size) {
     return kernel::atlasTileCorner(l.tile(slot), size);
+}
+
+// The AO and distance array textures of an atlas of `layout` for probes with parameters `p`.
+void allocateArrays(const CacheParams& p, const ProbeAtlasLayout& layout, gl::Texture& ao, gl::Texture& distance) {
+    const int res = int(p.res), depthRes = int(p.depthRes);
+    const auto layers = GLsizei(6 * layout.pages);
+    ao = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(ao.id(), 1, aoInternalFormat(p.aoFormat), layout.tilesX * res, layout.tilesY * res, layers);
+    // BC4 holds AO alone (traced caches, confidence 1): green reads as one, so project.comp's .rg is
+    // (AO, confidence) for either format.
+    if (p.aoFormat == AoFormat::Bc4) glTextureParameteri(ao.id(), GL_TEXTURE_SWIZZLE_G, GL_ONE);
+    distance = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(distance.id(), 1, depthInternalFormat(p.depthFormat), layout.tilesX * depthRes,
+                       layout.tilesY * depthRes, layers);
+}
+
+// Probe `bytes` into `slot`'s tiles of the arrays; `ao` and `depth` point at its sections (host memory
+// or offsets into the bound pixel-unpack buffer).
+void uploadTiles(const CacheParams& p, const ProbeAtlasLayout& layout, SlotId slot, GLuint aoTexture,
+                 GLuint distanceTexture, const void* ao, std::size_t aoBytes, const void* depth) {
+    const int res = int(p.res), depthRes = int(p.depthRes);
+    const glm::ivec3 a = slotCorner(layout, slot, res), d = slotCorner(layout, slot, depthRes);
+    glCompressedTextureSubImage3D(aoTexture, 0, a.x, a.y, a.z, res, res, 6, aoInternalFormat(p.aoFormat),
+                                  GLsizei(aoBytes), ao);
+    glTextureSubImage3D(distanceTexture, 0, d.x, d.y, d.z, depthRes, depthRes, 6, GL_RED, depthType(p.depthFormat),
+                        depth);
 }
 
 }  // namespace
@@ -74,9 +101,26 @@ ProbeAtlas::ProbeAtlas(const ProbeSource& source, std::size_t fixedBytes, const 
     const std::size_t tableBytes =
         n * sizeof(kernel::ProbeEntry) + feedbackWords(n) * 4 + kFeedbackRing * (feedbackWords(n) * 4 + 256);
     unlimited_ = settings.gpuBudgetBytes == 0;
-    const ResidencyPool pool = poolFor(settings.gpuBudgetBytes, fixedBytes + tableBytes,
-                                       unlimited_ ? std::max(n, minSlots) : n,
-                                       settings.uploadBytesPerFrame ? settings.uploadBytesPerFrame : kDefaultUploadBytes);
+    const std::size_t fixed = fixedBytes + tableBytes;
+    const std::size_t uploadBytes = settings.uploadBytesPerFrame ? settings.uploadBytesPerFrame : kDefaultUploadBytes;
+    ResidencyPool pool = poolFor(settings.gpuBudgetBytes, fixed, unlimited_ ? std::max(n, minSlots) : n, uploadBytes);
+    // A budget that cannot hold every probe: the coarse tier, if the cache has levels, comes out of it
+    // first (residency_planner.h coarseTierLevel), and the pool takes what is left.
+    const std::size_t cacheProbes = source.size();  // a source's first ids are its cache's probes
+    if (!unlimited_ && pool.slots < cacheProbes && source.storedLevels() > 1) {
+        std::vector<std::size_t> levelBytes;
+        for (std::uint32_t k = 0; k < source.storedLevels(); ++k)
+            levelBytes.push_back(probeGpuBytes(source.levelParams(k)));
+        if (const std::uint32_t level = coarseTierLevel(levelBytes, cacheProbes, settings.gpuBudgetBytes, fixed)) {
+            CoarseTier tier = coarseTierFor(source, level, cacheProbes);
+            try {
+                pool = poolFor(settings.gpuBudgetBytes, fixed + tier.bytes, n, uploadBytes);
+                coarse_ = std::move(tier);
+                allocateArrays(coarse_.params, coarse_.atlas, coarse_.ao, coarse_.distance);
+            } catch (const Error&) {  // the rest holds no probe at full resolution: no tier
+            }
+        }
+    }
     uploadBound_ = pool.uploadBound;
     planner_ = ResidencyPlanner(pool.slots, perProbe, uploadBound_);
     allocateAtlas(pool);
@@ -108,18 +152,44 @@ ProbeAtlas::~ProbeAtlas() = default;
 
 // Atlases for the pool's layout (the planner has its slots).
 void ProbeAtlas::allocateAtlas(const ResidencyPool& pool) {
-    const int res = int(params_.res), depthRes = int(params_.depthRes);
     atlas_ = pool.atlas;
     atlasBytes_ = pool.atlasBytes;
-    const auto layers = GLsizei(6 * atlas_.pages);
-    ao_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(ao_.id(), 1, aoInternalFormat(params_.aoFormat), atlas_.tilesX * res, atlas_.tilesY * res, layers);
-    // BC4 holds AO alone (traced caches, confidence 1): green reads as one, so project.comp's .rg is
-    // (AO, confidence) for either format.
-    if (params_.aoFormat == AoFormat::Bc4) glTextureParameteri(ao_.id(), GL_TEXTURE_SWIZZLE_G, GL_ONE);
-    distance_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(distance_.id(), 1, depthInternalFormat(params_.depthFormat), atlas_.tilesX * depthRes,
-                       atlas_.tilesY * depthRes, layers);
+    allocateArrays(params_, atlas_, ao_, distance_);
+}
+
+ProbeAtlas::CoarseTier ProbeAtlas::coarseTierFor(const ProbeSource& source, std::uint32_t level, std::size_t probes) {
+    CoarseTier tier;
+    tier.level = level;
+    tier.params = source.levelParams(level);
+    tier.atlas = probeAtlasLayout(probes, int(tier.params.res), glInteger(GL_MAX_TEXTURE_SIZE),
+                                  glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS));
+    tier.bytes = tier.atlas.tiles() * probeGpuBytes(tier.params);
+    tier.loaded.assign(probes, false);
+    return tier;
+}
+
+// Every live cache probe at the tier's level, straight from the mapping (the first update). A probe
+// whose bytes fail their checksum is left to the full-resolution path, which reports it.
+void ProbeAtlas::loadCoarseTier(const ProbeSource& source) {
+    std::size_t sinceRelease = 0;
+    for (std::uint32_t i = 0; i < coarse_.loaded.size(); ++i) {
+        const ProbeId id{i};
+        if (coarse_.loaded[i] || !source.isLive(id)) continue;
+        ProbeView v;
+        try {
+            v = source.view(id, coarse_.level);
+        } catch (const Error&) {
+            continue;
+        }
+        uploadTiles(coarse_.params, coarse_.atlas, SlotId{i}, coarse_.ao.id(), coarse_.distance.id(),
+                    v.aoConfidence.data(), v.aoConfidence.size(), v.depth.data());
+        coarse_.loaded[i] = true;
+        ++coarse_.held;
+        if (!isResident(id)) writeEntry(id, source);
+        if ((sinceRelease += v.aoConfidence.size() + v.depth.size()) >= kReleaseBytes)
+            source.releaseAll(), sinceRelease = 0;
+    }
+    source.releaseAll();
 }
 
 // A pool twice the size (at least `slots`): new atlases, every resident probe's tiles copied on the
@@ -162,17 +232,37 @@ void ProbeAtlas::ensureCapacity(std::size_t probes) {
 // What allocateAtlas, ensureCapacity and the staging ring hold now.
 void ProbeAtlas::updateGpuBytes() {
     stats_.gpuBytes = atlasBytes_ + staging_->upload.bytes() + capacity_ * sizeof(kernel::ProbeEntry) +
-                      staging_->feedback.bytes() + staging_->words * 4;
+                      staging_->feedback.bytes() + staging_->words * 4 + coarse_.bytes;
+    stats_.coarseLevel = coarse_.level, stats_.coarseBytes = coarse_.bytes;
 }
 
-void ProbeAtlas::writeEntry(ProbeId id, const ProbeSource& source) {
+void ProbeAtlas::writeEntry(ProbeId id, const ProbeSource& source, bool slotChanged) {
     kernel::ProbeEntry e{};
     e.position = source.position(id);
     e.distanceScale = source.distanceScale(id);
     const SlotId slot = planner_.slotOf(id);
     e.slot = index(slot);
     e.tile = slot == SlotId::None ? kNoSlot : atlas_.tile(slot);
-    ++residentVersion_;  // called whenever a probe's slot changes
+    e.qualityScale = 1.0f;
+    const bool coarse = source.isLive(id) && coarse_.level > 0 && index(id) < coarse_.loaded.size() &&
+                        coarse_.loaded[index(id)];
+    if (slot == SlotId::None && coarse) {  // drawn at the coarse tier's level until a slot holds it
+        e.tile = coarse_.atlas.tile(SlotId{index(id)});
+        e.level = coarse_.level;
+    } else if (slot != SlotId::None && coarse && index(id) < fadeStart_.size() && fadeStart_[index(id)] >= 0) {
+        // Its full resolution fades in: the quality goes from the coarse level's (4^-level of it, the
+        // texels' area) to its own over kFadeFrames frames, geometrically, so the blend weights move
+        // as they do when probes change rank.
+        const std::int64_t since = frame() - fadeStart_[index(id)];
+        if (since >= kFadeFrames) {
+            fadeStart_[index(id)] = -1;
+        } else {
+            const double t = double(since + 1) / double(kFadeFrames);
+            e.qualityScale = float(std::pow(4.0, -double(coarse_.level) * (1.0 - t)));
+            fading_.push_back(id);
+        }
+    }
+    if (slotChanged) ++residentVersion_;
     glNamedBufferSubData(table_.id(), GLintptr(index(id) * sizeof e), sizeof e, &e);
 }
 
@@ -183,11 +273,12 @@ void ProbeAtlas::syncProbes(const ProbeSource& source) {
     ensureCapacity(source.size());
     updateGpuBytes();
     planner_.resizeProbes(source.size());
+    fadeStart_.resize(source.size(), -1);
     if (source.size() > before) {  // new ids: one write of the whole range
         std::vector<kernel::ProbeEntry> entries(source.size() - before);
         for (std::size_t i = 0; i < entries.size(); ++i) {
             const ProbeId id{std::uint32_t(before + i)};
-            entries[i] = {source.position(id), source.distanceScale(id), kNoSlot, kNoSlot, 0u, 0u};
+            entries[i] = {source.position(id), source.distanceScale(id), kNoSlot, kNoSlot, 0u, 1.0f};
         }
         glNamedBufferSubData(table_.id(), GLintptr(before * sizeof(kernel::ProbeEntry)),
                              GLsizeiptr(entries.size() * sizeof(kernel::ProbeEntry)), entries.data());
@@ -202,8 +293,6 @@ void ProbeAtlas::readFeedback() {
 }
 
 void ProbeAtlas::upload(const ProbeView& p, SlotId slot, bool direct) {
-    const int res = int(params_.res), depthRes = int(params_.depthRes);
-    const glm::ivec3 a = slotCorner(atlas_, slot, res), d = slotCorner(atlas_, slot, depthRes);
     const void* ao = p.aoConfidence.data();
     const void* depth = p.depth.data();
     if (!direct) {  // through this frame's staging region: the copy returns before the GPU reads it
@@ -214,10 +303,7 @@ void ProbeAtlas::upload(const ProbeView& p, SlotId slot, bool direct) {
             ring.write(region, stats_.frameUploadBytes + p.aoConfidence.size(), std::as_bytes(p.depth)));
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, ring.buffer());
     }
-    glCompressedTextureSubImage3D(ao_.id(), 0, a.x, a.y, a.z, res, res, 6, aoInternalFormat(params_.aoFormat),
-                                  GLsizei(p.aoConfidence.size()), ao);
-    glTextureSubImage3D(distance_.id(), 0, d.x, d.y, d.z, depthRes, depthRes, 6, GL_RED, depthType(params_.depthFormat),
-                        depth);
+    uploadTiles(params_, atlas_, slot, ao_.id(), distance_.id(), ao, p.aoConfidence.size(), depth);
     if (!direct) glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
     stats_.frameUploadBytes += probeGpuBytes(params_);
     ++stats_.frameUploads;
@@ -236,6 +322,7 @@ void ProbeAtlas::update(const ProbeSource& source, std::span<const ProbeId> want
     GLint unpackAlignment = 4;
     glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // distance rows are 2 · depthRes bytes: odd depthRes is not 4-aligned
+    if (coarse_.level > 0 && frame() == 0) loadCoarseTier(source);
     planner_.beginFrame(wanted, source.probes(), unbounded);
     while (const std::optional<ResidencyPlanner::Load> load = planner_.next()) {
         // The probe's bytes are read (a cache probe's checksum checked on first use) before its slot
@@ -251,6 +338,9 @@ void ProbeAtlas::update(const ProbeSource& source, std::span<const ProbeId> want
             continue;
         }
         planner_.loaded(*load);
+        // A bounded frame's load over the probe's coarse level fades in (writeEntry); a start or a cut
+        // shows it at once.
+        fadeStart_[index(load->probe)] = unbounded ? -1 : frame();
         if (load->evicted != ProbeId::None) writeEntry(load->evicted, source);
         upload(bytes, load->slot, unbounded);
         // An unbounded update (the first frame, a cut) reads every probe it loads straight from the
@@ -261,6 +351,14 @@ void ProbeAtlas::update(const ProbeSource& source, std::span<const ProbeId> want
             releasedAt = stats_.frameUploadBytes;
         }
         writeEntry(load->probe, source);
+    }
+    // One step further for the probes fading in (loaded in an earlier frame; this frame's have their first).
+    for (const ProbeId id : std::exchange(fading_, {})) {
+        if (!planner_.isResident(id)) continue;
+        if (fadeStart_[index(id)] == frame())
+            fading_.push_back(id);
+        else
+            writeEntry(id, source, false);
     }
     for (const ProbeId id : planner_.readAhead()) source.prefetch(id);  // in memory when their frame comes
     glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
@@ -302,7 +400,9 @@ std::size_t glTextureBytes(GLuint texture) {
 }  // namespace
 
 std::size_t ProbeAtlas::allocatedGpuBytes() const {
-    return glTextureBytes(ao_.id()) + glTextureBytes(distance_.id()) + glBufferBytes(table_.id()) +
+    const std::size_t coarse =
+        coarse_.level > 0 ? glTextureBytes(coarse_.ao.id()) + glTextureBytes(coarse_.distance.id()) : 0;
+    return coarse + glTextureBytes(ao_.id()) + glTextureBytes(distance_.id()) + glBufferBytes(table_.id()) +
            glBufferBytes(staging_->upload.buffer()) + glBufferBytes(staging_->feedback.buffer()) +
            glBufferBytes(staging_->demand.id());
 }
@@ -315,6 +415,9 @@ void ProbeAtlas::bind() {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kernel::kProbeTableBuffer, table_.id());
     glBindTextureUnit(kernel::kProbeAoUnit, ao_.id());
     glBindTextureUnit(kernel::kProbeDistanceUnit, distance_.id());
+    // Without a tier no probe has a level above 0 and the shader never reads these units.
+    glBindTextureUnit(kernel::kProbeCoarseAoUnit, coarse_.level > 0 ? coarse_.ao.id() : ao_.id());
+    glBindTextureUnit(kernel::kProbeCoarseDistanceUnit, coarse_.level > 0 ? coarse_.distance.id() : distance_.id());
 }
 
 void ProbeAtlas::endFrame() {

@@ -54,6 +54,8 @@ struct ResidencyStats {
     double frameUploadMs = 0.0;  // host time the last update spent staging and issuing uploads
     std::size_t maxFrameUploadBytes = 0;  // the largest frameUploadBytes so far (frames after the first)
     std::size_t gpuBytes = 0;  // everything the residency allocated (atlases, staging, table, feedback)
+    std::uint32_t coarseLevel = 0;  // the coarse tier's level of detail (0: none)
+    std::size_t coarseBytes = 0;    // its atlases, within gpuBytes
     std::size_t damaged = 0;   // loads refused: the probe's stored bytes failed their checksum
 };
 
@@ -101,6 +103,13 @@ public:
     std::int64_t lastUsed(ProbeId id) const { return planner_.lastUsed(id); }
     std::uint32_t demand(ProbeId id) const { return planner_.demand(id); }
     bool isResident(ProbeId id) const { return planner_.isResident(id); }
+    // Resident at full resolution or held by the coarse tier: the pixels can read it.
+    bool isServed(ProbeId id) const {
+        return isResident(id) || (coarse_.level > 0 && index(id) < coarse_.loaded.size() && coarse_.loaded[index(id)]);
+    }
+    // The coarse tier's level (0: none; residency_planner.h coarseTierLevel) and its probes held now.
+    std::uint32_t coarseLevel() const { return coarse_.level; }
+    std::size_t coarseHeld() const { return coarse_.held; }
     // Changes whenever a probe enters or leaves the pool (a load, an eviction, a removal).
     std::uint64_t residentVersion() const { return residentVersion_; }
 
@@ -129,10 +138,29 @@ private:
     void allocateAtlas(const ResidencyPool& pool);
     void growAtlas(std::size_t slots, const ProbeSource& source);
     void updateGpuBytes();
-    void writeEntry(ProbeId id, const ProbeSource& source);
+    // Probe `id`'s table entry; `slotChanged` false: only its fade moved (the resident version stays).
+    void writeEntry(ProbeId id, const ProbeSource& source, bool slotChanged = true);
     void readFeedback();
     void upload(const ProbeView& bytes, SlotId slot, bool direct);
+    void loadCoarseTier(const ProbeSource& source);
 
+    // The coarse tier: the source's cache probes at one coarser level, probe id i in slot i, loaded on
+    // the first update, never evicted. Added probes (one level) have none.
+    struct CoarseTier {
+        std::uint32_t level = 0;  // 0: no tier
+        CacheParams params;       // the level's
+        ProbeAtlasLayout atlas;
+        gl::Texture ao, distance;
+        std::vector<bool> loaded;  // per probe id
+        std::size_t held = 0, bytes = 0;
+    };
+    CoarseTier coarse_;
+    // Probes whose full resolution was loaded over their coarse level within kFadeFrames: their entries
+    // are written again each update with the next quality scale, from the frame in fadeStart_ (per id; -1: none).
+    std::vector<ProbeId> fading_;
+    std::vector<std::int64_t> fadeStart_;
+    // The tier of `probes` cache probes at `level` (its layout and bytes; no GL texture yet).
+    static CoarseTier coarseTierFor(const ProbeSource& source, std::uint32_t level, std::size_t probes);
     CacheParams params_;
     std::size_t capacity_ = 0, uploadBound_ = 0;
     bool unlimited_ = false;  // no budget: grow with the probe set

@@ -200,7 +200,7 @@ void ProbeProjectionPass::updateResidentLists() {
     std::vector<std::uint32_t> ids;
     std::vector<glm::vec3> positions;
     for (std::uint32_t id = 0; id < source_.size(); ++id)
-        if (residency_->isResident(ProbeId{id})) ids.push_back(id), positions.push_back(source_.position(ProbeId{id}));
+        if (residency_->isServed(ProbeId{id})) ids.push_back(id), positions.push_back(source_.position(ProbeId{id}));
     const std::vector<std::size_t> changed = nearest_->assign(ids, positions);
     uploadCells(nearestCells_.id(), nearest_->table(), std::size_t(nearest_->k()), changed);
 }

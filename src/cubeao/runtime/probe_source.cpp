@@ -11,7 +11,7 @@
 namespace cubeao {
 
 ProbeSource::ProbeSource(const CacheReader* cache, const CacheParams& params, std::uint32_t level)
-    : cache_(cache), stored_(params), params_(levelParams(params, level)), level_(level) {
+    : cache_(cache), stored_(params), params_(cubeao::levelParams(params, level)), level_(level) {
     if (!cache) return;
     cache->adviseRandomAccess();  // probes are read by priority, each section asked for (prefetch)
     probes_.resize(cache->probeCount());
@@ -56,10 +56,21 @@ void ProbeSource::remove(ProbeId id) {
 ProbeView ProbeSource::view(ProbeId id) const {
     const Probe& p = probes_[index(id)];
     if (p.added) return viewOf(*p.added);
+    return view(id, level_);
+}
+
+CacheParams ProbeSource::levelParams(std::uint32_t level) const {
+    return level == level_ ? params_ : cubeao::levelParams(stored_, level);
+}
+
+ProbeView ProbeSource::view(ProbeId id, std::uint32_t level) const {
+    if (probes_[index(id)].added)
+        throw Error("probe id " + std::to_string(index(id)) + " was added at run time: it holds level " +
+                    std::to_string(level_) + " alone");
     ProbeView v = cache_->probe(index(id));
-    if (stored_.levels > 1) v = levelView(v, stored_, level_);
+    if (stored_.levels > 1) v = levelView(v, stored_, level);
     if (v.aoFormat != params_.aoFormat) {
-        convertedAo_ = convertAoSection(v.aoConfidence, params_.res, v.aoFormat, params_.aoFormat);
+        convertedAo_ = convertAoSection(v.aoConfidence, stored_.res >> level, v.aoFormat, params_.aoFormat);
         v.aoConfidence = convertedAo_;
         v.aoFormat = params_.aoFormat;
     }

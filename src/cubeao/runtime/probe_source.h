@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -46,6 +47,14 @@ public:
     // cache probe converted to another AO format points into a buffer of this source, valid until the
     // next view().
     ProbeView view(ProbeId id) const;
+    // Levels of detail the cache's probes have (1 without a cache or levels), and a cache probe at
+    // another of them, in params().aoFormat (the same rules as view(); Error for an added probe, which
+    // holds its one level).
+    std::uint32_t storedLevels() const {
+        return cache_ ? std::uint32_t(std::max<std::uint8_t>(stored_.levels, 1)) : 1u;
+    }
+    CacheParams levelParams(std::uint32_t level) const;
+    ProbeView view(ProbeId id, std::uint32_t level) const;
     void prefetch(ProbeId id) const;       // page hint for a cache probe; nothing for added ones
     void prefetchDepth(ProbeId id) const;  // the same for its distance section alone
     void releaseAll() const;  // every cache page (CacheReader::releaseAll)

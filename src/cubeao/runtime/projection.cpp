@@ -27,13 +27,15 @@ struct DecodedReader {
     std::uint32_t projectionCandidate(int k) const { return std::uint32_t(k); }
     // Decoded probes are all at hand: a probe's slot is its index.
     std::uint32_t projectionSlot(std::uint32_t probe) const { return probe; }
+    int projectionLevel(std::uint32_t) const { return 0; }  // each at its own res (one cache: the same)
+    float projectionQualityScale(std::uint32_t) const { return 1.0f; }
     glm::vec3 projectionProbePosition(std::uint32_t probe) const { return probes[probe].position; }
     float projectionDistance(std::uint32_t probe, std::uint32_t, int face, glm::vec2 sc) const {
         const DecodedProbe& p = probes[probe];
         const glm::ivec2 t = cube::texelOf(sc, p.depthRes);
         return p.distance[cube::texelIndex(face, t.x, t.y, p.depthRes)];
     }
-    glm::vec2 projectionAoConfidence(std::uint32_t probe, int face, glm::vec2 sc) const {
+    glm::vec2 projectionAoConfidence(std::uint32_t probe, std::uint32_t, int face, glm::vec2 sc) const {
         const DecodedProbe& p = probes[probe];
         const glm::ivec2 t = cube::texelOf(sc, p.res);
         const std::size_t i = cube::texelIndex(face, t.x, t.y, p.res);

@@ -77,6 +77,15 @@ ResidencyPool residencyPool(const ResidencyBudget& b) {
     return finish(atlas, atlas.tiles());  // every tile of the pages paid for is a slot
 }
 
+std::uint32_t coarseTierLevel(std::span<const std::size_t> levelBytes, std::size_t probes, std::size_t budgetBytes,
+                              std::size_t fixedBytes) {
+    if (budgetBytes == 0 || levelBytes.size() < 2 || probes == 0 || budgetBytes <= fixedBytes) return 0;
+    const std::size_t room = budgetBytes - fixedBytes;
+    for (std::size_t k = 1; k < levelBytes.size(); ++k)
+        if (probes * levelBytes[k] <= room / 4) return std::uint32_t(k);
+    return 0;
+}
+
 // ---- ResidencyPlanner ----------------------------------------------------------------------------
 
 ResidencyPlanner::ResidencyPlanner(std::size_t slots, std::size_t probeBytes, std::size_t uploadBound)

@@ -66,6 +66,16 @@ std::size_t stagingRegionBytes(std::size_t uploadBound);
 // probe, naming the least budget that can.
 ResidencyPool residencyPool(const ResidencyBudget& budget);
 
+// The coarse tier (probe_atlas.h): with a budget and a cache with levels of detail, every probe is also
+// held at one coarser level, so a probe the pool has no slot for is drawn coarse rather than not at
+// all ("drops to coarser levels before dropping a probe"). Its level: the finest level ≥ 1 whose bytes
+// for all `probes` (levelBytes[k]: one probe at level k) take at most a quarter of what the budget
+// leaves beside `fixedBytes`, so that the full-resolution pool keeps most of it; 0 (no tier) without a
+// budget or when no level is small enough. The caller asks only when the pool without a tier cannot
+// hold every probe.
+std::uint32_t coarseTierLevel(std::span<const std::size_t> levelBytes, std::size_t probes, std::size_t budgetBytes,
+                              std::size_t fixedBytes);
+
 // Eviction hysteresis: a probe the pixels used within kInUseFrames frames is replaced only by one
 // whose demand exceeds kSwapMargin times its own plus kSwapMinimum sampled pixels; a probe wanted
 // only by place (no pixel asked for it) does not displace one loaded within kFreshFrames.
