@@ -141,16 +141,24 @@ TEST(ResidencyPlanner, TheStagingShrinksWithThePool) {
     EXPECT_EQ(residencyPool(b).uploadBound, 3 * kProbe);
 }
 
-// The coarse tier's level: the finest that holds every probe in a quarter of what the budget leaves.
-TEST(ResidencyPlanner, TheCoarseTierTakesTheFinestLevelThatAQuarterOfTheBudgetHolds) {
-    const std::vector<std::size_t> levels = {1000, 250, 64, 16};  // bytes of one probe at levels 0..3
-    EXPECT_EQ(cubeao::coarseTierLevel(levels, 10, 0, 0), 0u) << "no budget: every probe at full resolution";
-    EXPECT_EQ(cubeao::coarseTierLevel(levels, 10, 100 + 10000, 100), 1u) << "10 · 250 ≤ 10000 / 4";
-    EXPECT_EQ(cubeao::coarseTierLevel(levels, 10, 100 + 9999, 100), 2u) << "10 · 250 > 9999 / 4 ≥ 10 · 64";
-    EXPECT_EQ(cubeao::coarseTierLevel(levels, 100, 100 + 6400, 100), 3u);
-    EXPECT_EQ(cubeao::coarseTierLevel(levels, 100, 100 + 6399, 100), 0u) << "not even the coarsest fits: no tier";
-    EXPECT_EQ(cubeao::coarseTierLevel(std::vector<std::size_t>{1000}, 10, 5000, 100), 0u) << "a cache of one level";
-    EXPECT_EQ(cubeao::coarseTierLevel(levels, 10, 50, 100), 0u) << "a budget below the fixed bytes";
+// The coarse tier's level: the finest that costs the full-resolution pool no slot; where every level
+// costs slots, the coarsest that leaves one; none where the pool holds every probe.
+TEST(ResidencyPlanner, TheCoarseTierTakesTheFinestLevelThatCostsNoSlot) {
+    const std::vector<std::size_t> tier = {0, 2500, 640, 160};  // the tier's bytes at levels 1..3
+    // A budget of `room` bytes for the tier and pages of 4 slots of 1000 bytes.
+    const auto pool = [](std::size_t room) {
+        return [room](std::size_t tierBytes) -> std::size_t {
+            return tierBytes > room ? 0 : (room - tierBytes) / 4000 * 4;
+        };
+    };
+    EXPECT_EQ(cubeao::coarseTierLevel(tier, 10, pool(12000)), 0u) << "every probe has a slot";
+    EXPECT_EQ(cubeao::coarseTierLevel(tier, 10, pool(11000)), 1u) << "8 slots beside level 1's 2500 bytes too";
+    EXPECT_EQ(cubeao::coarseTierLevel(tier, 10, pool(10000)), 2u) << "level 1 costs a page, level 2 none";
+    EXPECT_EQ(cubeao::coarseTierLevel(tier, 10, pool(8300)), 3u);
+    EXPECT_EQ(cubeao::coarseTierLevel(tier, 10, pool(8100)), 3u) << "every level costs slots: the coarsest";
+    EXPECT_EQ(cubeao::coarseTierLevel(tier, 10, pool(4100)), 0u) << "no level leaves a slot: no tier";
+    EXPECT_EQ(cubeao::coarseTierLevel(tier, 10, pool(3000)), 0u) << "no slot even without a tier";
+    EXPECT_EQ(cubeao::coarseTierLevel(std::vector<std::size_t>{0}, 10, pool(5000)), 0u) << "one level";
 }
 
 TEST(ResidencyPlanner, EachFrameLoadsAtMostTheUploadBoundAndReadsAheadWhatComesNext) {

@@ -107,18 +107,21 @@ ProbeAtlas::ProbeAtlas(const ProbeSource& source, std::size_t fixedBytes, const 
     // A budget that cannot hold every probe: the coarse tier, if the cache has levels, comes out of it
     // first (residency_planner.h coarseTierLevel), and the pool takes what is left.
     const std::size_t cacheProbes = source.size();  // a source's first ids are its cache's probes
-    if (!unlimited_ && pool.slots < cacheProbes && source.storedLevels() > 1) {
-        std::vector<std::size_t> levelBytes;
-        for (std::uint32_t k = 0; k < source.storedLevels(); ++k)
-            levelBytes.push_back(probeGpuBytes(source.levelParams(k)));
-        if (const std::uint32_t level = coarseTierLevel(levelBytes, cacheProbes, settings.gpuBudgetBytes, fixed)) {
-            CoarseTier tier = coarseTierFor(source, level, cacheProbes);
+    if (!unlimited_ && source.storedLevels() > 1) {
+        std::vector<std::size_t> tierBytes(source.storedLevels(), 0);
+        for (std::uint32_t k = 1; k < tierBytes.size(); ++k) tierBytes[k] = coarseTierFor(source, k, cacheProbes).bytes;
+        const auto slotsBeside = [&](std::size_t bytes) -> std::size_t {
+            if (bytes == 0) return pool.slots;
             try {
-                pool = poolFor(settings.gpuBudgetBytes, fixed + tier.bytes, n, uploadBytes);
-                coarse_ = std::move(tier);
-                allocateArrays(coarse_.params, coarse_.atlas, coarse_.ao, coarse_.distance);
-            } catch (const Error&) {  // the rest holds no probe at full resolution: no tier
+                return poolFor(settings.gpuBudgetBytes, fixed + bytes, n, uploadBytes).slots;
+            } catch (const Error&) {  // the rest holds no probe at full resolution
+                return 0;
             }
+        };
+        if (const std::uint32_t level = coarseTierLevel(tierBytes, cacheProbes, slotsBeside)) {
+            coarse_ = coarseTierFor(source, level, cacheProbes);
+            pool = poolFor(settings.gpuBudgetBytes, fixed + coarse_.bytes, n, uploadBytes);
+            allocateArrays(coarse_.params, coarse_.atlas, coarse_.ao, coarse_.distance);
         }
     }
     uploadBound_ = pool.uploadBound;

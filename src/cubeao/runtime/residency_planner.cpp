@@ -77,13 +77,15 @@ ResidencyPool residencyPool(const ResidencyBudget& b) {
     return finish(atlas, atlas.tiles());  // every tile of the pages paid for is a slot
 }
 
-std::uint32_t coarseTierLevel(std::span<const std::size_t> levelBytes, std::size_t probes, std::size_t budgetBytes,
-                              std::size_t fixedBytes) {
-    if (budgetBytes == 0 || levelBytes.size() < 2 || probes == 0 || budgetBytes <= fixedBytes) return 0;
-    const std::size_t room = budgetBytes - fixedBytes;
-    for (std::size_t k = 1; k < levelBytes.size(); ++k)
-        if (probes * levelBytes[k] <= room / 4) return std::uint32_t(k);
-    return 0;
+std::uint32_t coarseTierLevel(std::span<const std::size_t> tierBytes, std::size_t probes,
+                              const std::function<std::size_t(std::size_t)>& slotsBeside) {
+    if (tierBytes.size() < 2 || probes == 0) return 0;
+    const std::size_t without = slotsBeside(0);
+    if (without == 0 || without >= probes) return 0;  // no slot at all; every probe at full resolution
+    for (std::size_t k = 1; k < tierBytes.size(); ++k)
+        if (slotsBeside(tierBytes[k]) >= without) return std::uint32_t(k);
+    const std::size_t coarsest = tierBytes.size() - 1;
+    return slotsBeside(tierBytes[coarsest]) >= 1 ? std::uint32_t(coarsest) : 0u;
 }
 
 // ---- ResidencyPlanner ----------------------------------------------------------------------------

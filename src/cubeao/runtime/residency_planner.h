@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -68,13 +69,14 @@ ResidencyPool residencyPool(const ResidencyBudget& budget);
 
 // The coarse tier (probe_atlas.h): with a budget and a cache with levels of detail, every probe is also
 // held at one coarser level, so a probe the pool has no slot for is drawn coarse rather than not at
-// all ("drops to coarser levels before dropping a probe"). Its level: the finest level ≥ 1 whose bytes
-// for all `probes` (levelBytes[k]: one probe at level k) take at most a quarter of what the budget
-// leaves beside `fixedBytes`, so that the full-resolution pool keeps most of it; 0 (no tier) without a
-// budget or when no level is small enough. The caller asks only when the pool without a tier cannot
-// hold every probe.
-std::uint32_t coarseTierLevel(std::span<const std::size_t> levelBytes, std::size_t probes, std::size_t budgetBytes,
-                              std::size_t fixedBytes);
+// all ("drops to coarser levels before dropping a probe"). Its level: the finest whose bytes
+// (tierBytes[k]: the tier of all `probes` at level k; [0] is not read) leave the full-resolution pool
+// as many slots as it has without a tier (`slotsBeside(bytes)`: the slots the budget holds beside that
+// many bytes of tier, 0 when it holds none), since the slots serve what the camera is near; when every
+// level costs slots (the budget sits at a page's edge), the coarsest that leaves one. 0 (no tier) when
+// the pool holds every probe anyway, for a cache of one level, or when no level leaves a slot.
+std::uint32_t coarseTierLevel(std::span<const std::size_t> tierBytes, std::size_t probes,
+                              const std::function<std::size_t(std::size_t)>& slotsBeside);
 
 // Eviction hysteresis: a probe the pixels used within kInUseFrames frames is replaced only by one
 // whose demand exceeds kSwapMargin times its own plus kSwapMinimum sampled pixels; a probe wanted
