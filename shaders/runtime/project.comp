@@ -39,9 +39,15 @@ layout(binding = kGBufferNormalUnit) uniform sampler2D normalTex;
 // Probe atlases (probe_projection.h ProbeAtlasLayout): a slot is a tile, layer 6·page + face.
 layout(binding = kProbeAoUnit) uniform sampler2DArray aoTex;              // res² tiles
 layout(binding = kProbeDistanceUnit) uniform sampler2DArray distanceTex;  // depthRes² tiles
-// The coarse tier (ProbeEntry::level > 0): (res >> level)² and (depthRes >> level)² tiles.
+// The coarse tier (ProbeEntry::level > 0): (res >> level)² and (depthRes >> level)² tiles. Declared only
+// for a residency with a tier (probe_projection.cpp projectDefines); without one no level is above 0.
+#ifdef PROJECT_COARSE_TIER
 layout(binding = kProbeCoarseAoUnit) uniform sampler2DArray coarseAoTex;
 layout(binding = kProbeCoarseDistanceUnit) uniform sampler2DArray coarseDistanceTex;
+#else
+#define coarseAoTex aoTex
+#define coarseDistanceTex distanceTex
+#endif
 layout(r32f, binding = kAoImageUnit) writeonly uniform image2D aoOut;
 #ifdef PROJECT_DIAGNOSTICS
 layout(rgba32f, binding = kDiagnosticsImageUnit) writeonly uniform image2D diagnosticsOut;

@@ -104,8 +104,11 @@ TEST_F(GlTest, ProjectionShaderMatchesTheSharedLayout) {
     EXPECT_EQ(unitOf(p, "normalTex"), k::kGBufferNormalUnit);
     EXPECT_EQ(unitOf(p, "aoTex"), k::kProbeAoUnit);
     EXPECT_EQ(unitOf(p, "distanceTex"), k::kProbeDistanceUnit);
-    EXPECT_EQ(unitOf(p, "coarseAoTex"), k::kProbeCoarseAoUnit);
-    EXPECT_EQ(unitOf(p, "coarseDistanceTex"), k::kProbeCoarseDistanceUnit);
+    {  // the coarse tier's samplers exist only in a residency with one (probe_projection.cpp projectDefines)
+        const gl::Program tiered = gl::compileComputeProgram("runtime/project.comp", {{"PROJECT_COARSE_TIER", "1"}});
+        EXPECT_EQ(unitOf(tiered.id(), "coarseAoTex"), k::kProbeCoarseAoUnit);
+        EXPECT_EQ(unitOf(tiered.id(), "coarseDistanceTex"), k::kProbeCoarseDistanceUnit);
+    }
     EXPECT_EQ(unitOf(p, "aoOut"), k::kAoImageUnit);
     expectPassCounters(p, "project");
     expectProjectBlock(p, "project");

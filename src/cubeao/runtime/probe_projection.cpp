@@ -56,6 +56,20 @@ void uploadCells(GLuint buffer, const std::vector<std::uint32_t>& table, std::si
     }
 }
 
+}  // namespace
+
+// project.comp declares the coarse tier's samplers only for a residency that has one (PROJECT_COARSE_TIER):
+// without, every probe is read at level 0 and the shader is the one before the tier, two sampler units
+// fewer (with them, LeakSanitizer's tracer crashed at exit in a sanitized `cubeao render` that filled
+// pixels with GTAO: docs/RELIABILITY.md).
+gl::ShaderDefines ProbeProjectionPass::projectDefines() const {
+    gl::ShaderDefines defines;
+    if (residency_->coarseLevel() > 0) defines.push_back({"PROJECT_COARSE_TIER", "1"});
+    return defines;
+}
+
+namespace {
+
 // The cache of a pass, refused before any work when it holds no probe.
 const CacheReader& nonEmpty(const CacheReader& cache) {
     if (cache.probeCount() == 0) throw Error("render --method probes: the cache holds no probes");
@@ -125,7 +139,7 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
     // An empty start without a budget: a pool for the probes expected, grown as they come.
     residency_ = std::make_unique<ProbeAtlas>(source_, ownGpuBytes(), settings.residency, cache ? 0 : expectedProbes);
 
-    program_ = gl::compileComputeProgram("runtime/project.comp");
+    program_ = gl::compileComputeProgram("runtime/project.comp", projectDefines());
     uploadProjectBlock();
     countProgram_ = gl::compileComputeProgram("runtime/cell_residency.comp");  // reads block_ too
 }
@@ -160,7 +174,9 @@ void ProbeProjectionPass::setDiagnostics(bool on) {
         return;
     }
     if (diagnosticsProgram_.id() == 0) {
-        diagnosticsProgram_ = gl::compileComputeProgram("runtime/project.comp", {{"PROJECT_DIAGNOSTICS", "1"}});
+        gl::ShaderDefines defines = projectDefines();
+        defines.push_back({"PROJECT_DIAGNOSTICS", "1"});
+        diagnosticsProgram_ = gl::compileComputeProgram("runtime/project.comp", defines);
     }
 }
 

@@ -19,6 +19,7 @@
 
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/gl/handles.h"
+#include "cubeao/gl/shader.h"
 #include "cubeao/gl/sync.h"
 #include "cubeao/gl/uniform_block.h"
 #include "cubeao/runtime/ao_pass.h"
@@ -125,6 +126,7 @@ public:
     std::vector<std::uint32_t> readResidentCandidateCounts() const;
 
 private:
+    gl::ShaderDefines projectDefines() const;
     ProbeProjectionPass(const CacheReader* cache, const CacheParams& params, std::span<const glm::vec3> positions,
                         std::span<const std::uint32_t> indices, const ProbeProjectionSettings& settings,
                         std::size_t expectedProbes);
