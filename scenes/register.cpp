@@ -10,6 +10,7 @@ void registerBuiltinScenes() {
     std::call_once(once, [] {
         registerBuiltinScene("sphere-plane", {makeSpherePlane, spherePlanePath});
         registerBuiltinScene("box-room", {makeBoxRoom, boxRoomPath});
+        registerBuiltinScene("two-rooms", {makeTwoRooms, twoRoomsPath});
         registerBuiltinScene("cloister", {makeCloister, cloisterPath});
         registerBuiltinScene("town", {makeTown, townPath});
     });

@@ -44,10 +44,16 @@
 CUBEAO_KERNEL_BEGIN
 
 // Whether the probe sees the point: its seen side faces the probe, the probe saw a surface that way
-// (an empty texel holds no AO for the point either) and that surface is the point's (depth_test.h).
-CUBEAO_FN bool probeSeesPoint(float stored, float distance, float cosine, ProjectionParams p) {
+// (an empty texel holds no AO for the point either), that surface is the point's, and the point lifted
+// off its surface is not behind what the probe saw (depth_test.h).
+// `stored` is the texel in the point's direction, `lifted` the texel in the direction of the point lifted
+// off its surface (depthLiftedPoint), `liftedDistance` that point's distance (no lifted half when
+// p.depthOffset is 0).
+CUBEAO_FN bool probeSeesPoint(float stored, float distance, float cosine, float lifted, float liftedDistance,
+                              ProjectionParams p) {
     if (!(cosine > 0.0f) || !(stored > 0.0f)) return false;
-    return depthWithinBias(stored, distance, cosine, p.depthTolerance, p.depthSlope, p.depthRes);
+    return depthVisible(stored, distance, cosine, lifted, liftedDistance, p.depthTolerance, p.depthSlope, p.depthOffset,
+                        p.depthRes);
 }
 
 // AO at a point and how many probes gave it: 0 (nobody saw the point: ao = 1, open, the caller's
@@ -101,7 +107,11 @@ CUBEAO_READER_FN ProjectedAo projectCandidates(CUBEAO_READER(reader) int count, 
         int level = CUBEAO_READ(reader) projectionLevel(probe);
         q.res = p.res >> level;
         q.depthRes = max(p.depthRes >> level, 1);
-        if (!probeSeesPoint(CUBEAO_READ(reader) projectionDistance(probe, slot, face, sc), distance, cosine, q))
+        vec3 lifted = depthLiftedPoint(d, n, distance, q.depthOffset, q.depthRes);  // from the probe
+        vec2 liftedSc;
+        int liftedFace = cubeFaceOf(lifted, liftedSc);
+        if (!probeSeesPoint(CUBEAO_READ(reader) projectionDistance(probe, slot, face, sc), distance, cosine,
+                            CUBEAO_READ(reader) projectionDistance(probe, slot, liftedFace, liftedSc), length(lifted), q))
             continue;
         vec2 v = CUBEAO_READ(reader) projectionAoConfidence(probe, slot, face, sc);
         vec2 r = vec2(CUBEAO_READ(reader) projectionQualityScale(probe) * v.y /

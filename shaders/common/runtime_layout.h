@@ -169,6 +169,7 @@ struct ProjectionParams {
     float minFacing;
     int res;
     int depthRes;
+    float depthOffset;  // the depth test's lift off the surface, in coarse texel widths (depth_test.h)
 };
 
 // project.comp's fixed parameters, one std140 uniform block at kProjectBlock: the candidate grid
@@ -254,7 +255,7 @@ static_assert(offsetof(ProjectBlock, cellSize) == 12 && offsetof(ProjectBlock, g
               offsetof(ProjectBlock, residentCellSize) == 44 && offsetof(ProjectBlock, residentDims) == 48 &&
               offsetof(ProjectBlock, residentPerCell) == 60 && offsetof(ProjectBlock, uncoveredAo) == 64 &&
               offsetof(ProjectBlock, cellCount) == 68 &&
-              offsetof(ProjectBlock, params) == 80 && sizeof(ProjectionParams) == 20,
+              offsetof(ProjectBlock, params) == 80 && sizeof(ProjectionParams) == 24,
               "ProjectBlock must keep std140 offsets (project.comp reads it as a uniform block)");
 // std140 offsets of the blocks above (each block holds one of these structs; the driver's offsets
 // are checked in tests/runtime/test_runtime_layout.cpp).

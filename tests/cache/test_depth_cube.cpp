@@ -114,6 +114,21 @@ TEST(DepthCube, RunTimeTestOnAnalyticCases) {
     EXPECT_FALSE(depth::visible(facing, 10.0f, 10.0f, -0.2f, 128));
     EXPECT_FALSE(depth::visible(facing, 0.0f, 10.0f, -0.2f, 128));
     EXPECT_TRUE(depth::visible(facing, 10.0f, 10.0f, 0.2f, 128));
+    // The second half: the point lifted by 0.5 texel widths (w = 2/128) at distance 10 along its
+    // normal. Beyond the relative tolerance, within the slope bias, the lifted point must be within
+    // the relative tolerance of the texel in its direction (an empty one hides nothing); within the
+    // tolerance no lift is asked; no lift (offset 0), no second half.
+    const depth::DepthTest lifted{0.01f, 1.0f, true, 0.5f};
+    const glm::vec3 point = depth::liftedPoint(lifted, {0, 0, 0}, {0, 0, -10}, {0, 1, 0}, 128);
+    EXPECT_NEAR(point.y, 0.5f * (2.0f / 128.0f) * 10.0f, 1e-6f);
+    EXPECT_EQ(point.z, -10.0f);
+    const float slanted = 10.0f + 0.5f * slack;  // within the slope bias at 60°
+    EXPECT_TRUE(depth::visible(lifted, 10.0f, slanted, c60, 128, {10.0f, 10.09f}));
+    EXPECT_FALSE(depth::visible(lifted, 10.0f, slanted, c60, 128, {10.0f, 10.11f})) << "the lifted point is behind";
+    EXPECT_TRUE(depth::visible(lifted, 10.0f, slanted, c60, 128, {0.0f, 10.11f})) << "nothing in front of it";
+    EXPECT_TRUE(depth::visible(lifted, 10.0f, 10.09f, c60, 128, {10.0f, 1e6f})) << "within the tolerance: no lift";
+    EXPECT_TRUE(depth::visible({0.01f, 1.0f, true, 0.0f}, 10.0f, slanted, c60, 128, {10.0f, 1e6f})) << "no lift";
+    EXPECT_FALSE(depth::visible(lifted, 10.0f, 10.1f + 1.01f * slack, c60, 128, {10.0f, 10.0f})) << "beyond the bias";
 }
 
 // ---- GPU encoder ---------------------------------------------------------------------------------

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <tuple>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -632,24 +633,37 @@ TEST(CliCache, BenchDepthAndBenchCacheReport) {
     EXPECT_EQ(j["variants"].size(), 3u + 6u);  // res/1: 3 formats; res/4: 3 formats × 2 filters
     EXPECT_EQ(j["default"]["bake"]["variant"].get<std::string>(), "res/4 r16unorm min");
     // A larger tolerance accepts more (false hidden never rises), the slope-scaled bias hides fewer
-    // grazing pairs than none at the same tolerance, and at full resolution in 32 bits the chosen test
-    // hides almost nothing visible.
+    // grazing pairs than none at the same tolerance, the lifted second half (on by default in the
+    // bench's list: lifts 0 and depth::kThinWallLift) only ever hides more, and at full resolution in
+    // 32 bits the chosen test hides almost nothing visible.
+    std::size_t lifted = 0;
     for (const auto& v : j["variants"]) {
-        std::map<std::pair<bool, double>, std::vector<std::pair<double, double>>> byTest;  // (facing, slope)
+        using Key = std::tuple<bool, double, double>;  // facing, slope, lift
+        std::map<Key, std::vector<std::array<double, 3>>> byTest;  // tolerance, false hidden, false visible
         for (const auto& t : v["tests"])
-            byTest[{t["facing"].get<bool>(), t["slope"].get<double>()}].emplace_back(t["tolerance"].get<double>(),
-                                                                                     t["false_hidden"].get<double>());
+            byTest[{t["facing"].get<bool>(), t["slope"].get<double>(), t["offset"].get<double>()}].push_back(
+                {t["tolerance"].get<double>(), t["false_hidden"].get<double>(), t["false_visible"].get<double>()});
         for (auto& [test, rows] : byTest) {
+            const auto [facing, slope, lift] = test;
             std::sort(rows.begin(), rows.end());
             for (std::size_t i = 1; i < rows.size(); ++i)
-                EXPECT_LE(rows[i].second, rows[i - 1].second) << v["variant"] << " tolerance " << rows[i].first;
-            const auto flat = byTest.find({test.first, 0.0});
-            if (test.second > 0.0 && flat != byTest.end()) {
+                EXPECT_LE(rows[i][1], rows[i - 1][1]) << v["variant"] << " tolerance " << rows[i][0];
+            const auto flat = byTest.find({facing, 0.0, lift});
+            if (slope > 0.0 && flat != byTest.end()) {
                 for (std::size_t i = 0; i < rows.size() && i < flat->second.size(); ++i)
-                    EXPECT_LE(rows[i].second, flat->second[i].second) << v["variant"] << " slope " << test.second;
+                    EXPECT_LE(rows[i][1], flat->second[i][1]) << v["variant"] << " slope " << slope;
+            }
+            const auto unlifted = byTest.find({facing, slope, 0.0});
+            if (lift > 0.0 && unlifted != byTest.end()) {
+                ++lifted;
+                for (std::size_t i = 0; i < rows.size() && i < unlifted->second.size(); ++i) {
+                    EXPECT_GE(rows[i][1], unlifted->second[i][1]) << v["variant"] << " lift " << lift;
+                    EXPECT_LE(rows[i][2], unlifted->second[i][2]) << v["variant"] << " lift " << lift;
+                }
             }
         }
     }
+    EXPECT_GT(lifted, 0u);
     EXPECT_LE(j["default"]["full_res"]["false_hidden"].get<double>(), 0.02);
     EXPECT_EQ(j["default"]["full_res"]["false_visible"].get<double>(), 0.0);
 

@@ -164,6 +164,31 @@ TEST_F(RuntimeGl, RenderOneProbeInTheBoxRoomAgainstTheReference) {
     EXPECT_LT(mae, maeOpen);
 }
 
+// Issue 34 item 4 on the GPU: one probe in room A of builtin:two-rooms, every level baked; room B's
+// walk with --depth-lift takes nothing from it at any level (every pixel falls back), without it
+// strips along the 2 cm wall do (the kernel's CPU twin: tests/runtime/test_thin_wall.cpp).
+TEST_F(RuntimeGl, RenderWithDepthLiftTakesNothingThroughAThinWall) {
+    TempDir dir;
+    const std::string probes = dir.write("probes.json", R"({"version":1,"probes":[{"pos":[2,1.5,2]}]})");
+    const fs::path cache = dir.path() / "a.cubeao";
+    ASSERT_EQ(runCli("bake builtin:two-rooms --probes " + probes + " --out " + cache.string() +
+                     " --res 64 --spp 8 --radius 1 --levels max --device cpu").code, 0);
+    const auto uncovered = [&](int level, const char* lift) {
+        const CliRun r = runCli("render builtin:two-rooms --cache " + cache.string() + " --frames 0:6 --width 64 " +
+                                "--height 36 --fallback none --level " + std::to_string(level) + " --depth-lift " + lift +
+                                " --out " + (dir.path() / ("r" + std::to_string(level) + lift)).string() + " --json");
+        EXPECT_EQ(r.code, 0) << r.out;
+        return r.code == 0 ? lastLine(r.out)["uncovered_fraction"].get<double>() : -1.0;
+    };
+    for (int level : {0, 1, 2}) {  // 64², 32², 16²
+        SCOPED_TRACE("level " + std::to_string(level));
+        EXPECT_EQ(uncovered(level, "0.71"), 1.0);
+    }
+    EXPECT_LT(uncovered(2, "0"), 0.99) << "without the lift the coarse level leaks";
+    EXPECT_EQ(runCli("render builtin:two-rooms --cache " + cache.string() + " --depth-lift -1 --out " +
+                     (dir.path() / "bad").string()).code, 2);
+}
+
 TEST_F(RuntimeGl, RenderCliWritesFramesThatCompareWithTheReference) {
     TempDir dir;
     const fs::path render = dir.path() / "render", reference = dir.path() / "reference";

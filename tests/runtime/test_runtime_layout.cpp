@@ -74,7 +74,8 @@ void expectProjectBlock(GLuint program, const std::string& name) {
                            {"depthSlope", params + offsetof(P, depthSlope)},
                            {"minFacing", params + offsetof(P, minFacing)},
                            {"res", params + offsetof(P, res)},
-                           {"depthRes", params + offsetof(P, depthRes)}},
+                           {"depthRes", params + offsetof(P, depthRes)},
+                           {"depthOffset", params + offsetof(P, depthOffset)}},
                           name);
 }
 

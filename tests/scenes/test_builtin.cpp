@@ -31,16 +31,17 @@ float clearance(const EmbreeScene& rt, const glm::vec3& p, bool& enclosed) {
 }
 
 TEST(Builtin, NamesAndSizes) {
-    EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"box-room", "cloister", "sphere-plane", "town"}));
+    EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"box-room", "cloister", "sphere-plane", "town", "two-rooms"}));
     const Scene cloister = makeBuiltinScene("builtin:cloister");
     EXPECT_GE(cloister.triangleCount(), 20000u);  // "a few tens of thousands"
     EXPECT_LE(cloister.triangleCount(), 80000u);
     EXPECT_EQ(cloister.source, "builtin:cloister");
     EXPECT_EQ(makeBuiltinScene("builtin:box-room").triangleCount(), 12u + 3u * 10u);  // room + 3 bottomless boxes
+    EXPECT_EQ(makeBuiltinScene("builtin:two-rooms").triangleCount(), 2u * 12u + 2u * 10u);  // 2 rooms, 2 blocks
 }
 
 // The self-contained scenes; builtin:town needs the shared models and has tests of its own (test_town.cpp).
-const std::vector<std::string> kProcedural{"box-room", "cloister", "sphere-plane"};
+const std::vector<std::string> kProcedural{"box-room", "cloister", "sphere-plane", "two-rooms"};
 
 TEST(Builtin, DeterministicGeometry) {
     for (const auto& name : kProcedural) {
@@ -60,7 +61,7 @@ TEST(Builtin, CameraPathsStayInsideAndClearOfSurfaces) {
             bool enclosed = false;
             const float d = clearance(rt, path.frames[f].eye, enclosed);
             EXPECT_GE(d, 0.6f) << name << " frame " << f;
-            if (name == "box-room") {
+            if (name == "box-room" || name == "two-rooms") {
                 EXPECT_TRUE(enclosed) << "frame " << f;
             }
             if (f > 0) {  // a smooth walk: no jumps between consecutive frames
@@ -86,6 +87,7 @@ TEST(Builtin, RegistrationMapsEachNameToItsOwnScene) {
         CameraPath (*path)();
     } expected[] = {{"sphere-plane", scenes::makeSpherePlane, scenes::spherePlanePath},
                     {"box-room", scenes::makeBoxRoom, scenes::boxRoomPath},
+                    {"two-rooms", scenes::makeTwoRooms, scenes::twoRoomsPath},
                     {"cloister", scenes::makeCloister, scenes::cloisterPath}};
     for (const auto& e : expected) {
         SCOPED_TRACE(e.name);

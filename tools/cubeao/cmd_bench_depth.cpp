@@ -5,7 +5,7 @@
 // point is paired with its nearest probes, as the run time's candidate selection would. Truth for a
 // pair: an Embree ray from the probe to the point. Each variant downsamples the probe's full-res
 // distances (Embree primary rays, the CPU bake's G-buffer), quantises, decodes and runs the
-// run-time test depth::visible at several relative tolerances.
+// run-time test depth::visible at several tolerances, slopes and lifts.
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -29,16 +29,18 @@ struct DepthArgs {
     std::string scene = "builtin:cloister", camera;
     int res = 512, probes = 8, frames = 8, width = 160, height = 90, candidates = 4;
     std::vector<int> divisors{1, 2, 4, 8};
-    std::vector<float> tolerances{0.002f, 0.005f, 0.01f, 0.02f}, slopes{0.0f, depth::kDepthSlope};
+    std::vector<float> tolerances{0.002f, 0.005f, 0.01f, 0.02f}, slopes{0.0f, depth::kDepthSlope},
+        offsets{0.0f, depth::kThinWallLift};
     bool json = false;
 };
 
-// The run-time tests compared: every slope × facing × tolerance.
+// The run-time tests compared: every offset × slope × facing × tolerance.
 std::vector<depth::DepthTest> testsFor(const DepthArgs& a) {
     std::vector<depth::DepthTest> tests;
-    for (const float slope : a.slopes)
-        for (const bool facing : {false, true})
-            for (const float tolerance : a.tolerances) tests.push_back({tolerance, slope, facing});
+    for (const float offset : a.offsets)
+        for (const float slope : a.slopes)
+            for (const bool facing : {false, true})
+                for (const float tolerance : a.tolerances) tests.push_back({tolerance, slope, facing, offset});
     return tests;
 }
 
@@ -54,7 +56,7 @@ struct Variant {
 };
 
 struct Pair {
-    glm::vec3 point;
+    glm::vec3 point, normal;  // normal turned towards the camera
     float cosine;  // between the point's normal (towards the camera) and the direction to the probe
     bool visible;  // truth
 };
@@ -99,7 +101,7 @@ std::vector<std::vector<Pair>> pairsByProbe(const EmbreeScene& rt, const std::ve
             // Stop short of the point's own surface: anything before it hides it.
             const float margin = std::max(rt.surfaceEpsilon(), 1e-4f * distance);
             const bool hidden = rt.occluded(probe, (p - probe) / distance, 0.0f, distance - margin);
-            byProbe[order[c]].push_back({p, glm::dot(point.normal, (probe - p) / distance), !hidden});
+            byProbe[order[c]].push_back({p, point.normal, glm::dot(point.normal, (probe - p) / distance), !hidden});
         }
     }
     return byProbe;
@@ -126,11 +128,12 @@ void evaluate(Variant& v, const CubeGBuffer& g, const std::vector<Pair>& pairs, 
     std::vector<float> stored;
     depth::decode(depth::encode(coarse, v.format, maxDistance), depthRes, v.format, maxDistance, stored);
     for (const Pair& p : pairs) {
-        const glm::vec3 d = p.point - g.probe;
-        const float distance = glm::length(d);
-        const float s = stored[cube::texelIndex(d, depthRes)];
         for (std::size_t t = 0; t < tests.size(); ++t) {
-            const bool visible = depth::visible(tests[t], s, distance, p.cosine, depthRes);
+            const glm::vec3 d = p.point - g.probe;
+            const glm::vec3 lifted = depth::liftedPoint(tests[t], g.probe, p.point, p.normal, depthRes) - g.probe;
+            const bool visible =
+                depth::visible(tests[t], stored[cube::texelIndex(d, depthRes)], glm::length(d), p.cosine, depthRes,
+                               {stored[cube::texelIndex(lifted, depthRes)], glm::length(lifted)});
             v.falseVisible[t] += visible && !p.visible;
             v.falseHidden[t] += !visible && p.visible;
         }
@@ -150,9 +153,9 @@ double bytesPerAoTexel(const Variant& v) { return double(depthBytesPerTexel(v.fo
 nlohmann::json printTables(const std::vector<Variant>& variants, const std::vector<depth::DepthTest>& tests,
                            std::size_t perBlock, const Totals& n) {
     for (std::size_t block = 0; block < tests.size(); block += perBlock) {
-        std::printf("\nfalse visible (of %llu hidden) / false hidden (of %llu visible), %%; slope %g, facing %s; at "
-                    "tolerance:\n%-28s %8s", (unsigned long long)n.hidden, (unsigned long long)n.visible,
-                    tests[block].slope, tests[block].facing ? "on" : "off", "variant", "B/texel");
+        std::printf("\nfalse visible (of %llu hidden) / false hidden (of %llu visible), %%; offset %g, slope %g, facing "
+                    "%s; at tolerance:\n%-28s %8s", (unsigned long long)n.hidden, (unsigned long long)n.visible,
+                    tests[block].offset, tests[block].slope, tests[block].facing ? "on" : "off", "variant", "B/texel");
         for (std::size_t t = block; t < block + perBlock; ++t) std::printf("  %13.3f", tests[t].tolerance);
         std::printf("\n");
         for (const Variant& v : variants) {
@@ -169,6 +172,7 @@ nlohmann::json printTables(const std::vector<Variant>& variants, const std::vect
             perTest.push_back({{"tolerance", tests[t].tolerance},
                                {"slope", tests[t].slope},
                                {"facing", tests[t].facing},
+                               {"offset", tests[t].offset},
                                {"false_visible", n.falseVisible(v.falseVisible[t])},
                                {"false_hidden", n.falseHidden(v.falseHidden[t])}});
         rows.push_back({{"variant", v.name()},
@@ -184,9 +188,9 @@ nlohmann::json printTables(const std::vector<Variant>& variants, const std::vect
 // The bake's choice against full resolution under the default test.
 nlohmann::json printDefaults(const Variant& full, const Variant& chosen, const Totals& n) {
     const depth::DepthTest d;
-    std::printf("\ndefault test (tolerance %g, slope %g, facing %s), false visible / false hidden %%:\n", d.tolerance,
-                d.slope, d.facing ? "on" : "off");
-    nlohmann::json out = {{"tolerance", d.tolerance}, {"slope", d.slope}, {"facing", d.facing}};
+    std::printf("\ndefault test (tolerance %g, slope %g, facing %s, offset %g), false visible / false hidden %%:\n",
+                d.tolerance, d.slope, d.facing ? "on" : "off", d.offset);
+    nlohmann::json out = {{"tolerance", d.tolerance}, {"slope", d.slope}, {"facing", d.facing}, {"offset", d.offset}};
     for (const Variant* v : {&full, &chosen}) {
         const double fv = n.falseVisible(v->falseVisible[0]), fh = n.falseHidden(v->falseHidden[0]);
         std::printf("  %-28s %6.3f/%6.3f%s\n", v->name().c_str(), 100.0 * fv, 100.0 * fh,
@@ -265,6 +269,8 @@ void addBenchDepth(CLI::App& bench) {
     cmd->add_option("--divisor", a->divisors, "depthRes = res / divisor (repeatable)")->capture_default_str();
     cmd->add_option("--tolerance", a->tolerances, "Relative tolerances of the test (repeatable)")->capture_default_str();
     cmd->add_option("--slope", a->slopes, "Slope-scaled bias factors of the test (repeatable)")->capture_default_str();
+    cmd->add_option("--offset", a->offsets, "Lifts of the test's second half, in coarse texel widths; 0: none (repeatable)")
+        ->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");
     cmd->callback([a] { run(*a); });
 }

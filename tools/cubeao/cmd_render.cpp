@@ -39,7 +39,8 @@ struct RenderArgs {
     float radius = 0.0f, alpha = 1.0f, alchemySigma = 0.0f;
     double gpuBudgetMb = 0.0, uploadMb = 0.0;  // probes: 0 = everything resident; 0 = the default bound
     std::string fallback = "gtao";
-    std::uint32_t seed = 0, level = 0;  // level: probes, the level of detail every probe is held at
+    std::uint32_t seed = 0, level = 0;
+    float depthLift = 0.0f;  // probes: the depth test's lift (projection.h ProjectSettings::depthOffset)  // level: probes, the level of detail every probe is held at
     bool json = false;
 };
 
@@ -91,6 +92,8 @@ PassSettings usageChecked(const RenderArgs& a) {
         throw UsageError("--fallback \"" + a.fallback + "\": expected gtao or none");
     p.probes.residency = ResidencySettings::fromMib(a.gpuBudgetMb, a.uploadMb);
     p.probes.level = a.level;
+    if (!(a.depthLift >= 0.0f && a.depthLift <= 4.0f)) throw UsageError("--depth-lift must lie in [0, 4]");
+    p.probes.project.depthOffset = a.depthLift;
     return p;
 }
 
@@ -213,6 +216,7 @@ void run(const RenderArgs& a) {
         result["cache"] = a.cache;
         result["probes"] = cache->probeCount();
         result["level"] = a.level;
+        result["depth_lift"] = a.depthLift;
         result["residency"] = residencyJson(*projection);
         result["residency"]["gpu_budget_mb"] = a.gpuBudgetMb, result["residency"]["fallback"] = a.fallback;
     }
@@ -260,6 +264,10 @@ void addRender(CLI::App& app) {
     cmd->add_option("--upload-mb", a->uploadMb, "probes: bytes uploaded per frame at most, MiB (default 8)");
     cmd->add_option("--level", a->level,
                     "probes: hold every probe at this level of detail of a cache baked with --levels (0: the finest)");
+    cmd->add_option("--depth-lift", a->depthLift,
+                    "probes: the depth test also lifts each point this many distance texels off its surface (0: off; "
+                    "0.71: no AO through thin walls, at some cost in coverage: docs/ALGORITHMS.md)")
+        ->capture_default_str();
     cmd->add_option("--fallback", a->fallback, "probes: what pixels no resident probe sees get: gtao | none (open)")
         ->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object as the last line");

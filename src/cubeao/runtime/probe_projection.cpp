@@ -100,13 +100,15 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
 
     // The grid ranks probes per cell as the pass will, less the confidence (projection.h), reading the
     // distance texel straight from the stored bytes.
-    const ProjectSettings project = resolveProjectSettings({});
+    const ProjectSettings project = resolveProjectSettings(settings_.project);
     auto touched = std::make_shared<TouchedProbes>(source_);
     const auto quality = [this, project, touched](std::uint32_t probe, const SurfaceSample& x) {
         touched->touch(probe);
         const glm::vec3 at = source_.position(ProbeId{probe});
         if (x.position == at) return 0.0;  // no direction to look up
-        const float stored = source_.distance(ProbeId{probe}, cube::texelIndex(x.position - at, depthRes_));
+        const glm::vec3 lifted = depthLiftedPoint(at, x.position, x.normal, depthRes_, project);
+        const StoredDistances stored{source_.distance(ProbeId{probe}, cube::texelIndex(x.position - at, depthRes_)),
+                                     source_.distance(ProbeId{probe}, cube::texelIndex(lifted - at, depthRes_))};
         const double area = visibleFootprint(at, stored, res_, depthRes_, x.position, x.normal, project);
         return area > 0.0 ? 1.0 / area : 0.0;  // 1 / inf = 0: not seen
     };
@@ -147,7 +149,7 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
 ProbeProjectionPass::~ProbeProjectionPass() = default;
 
 void ProbeProjectionPass::uploadProjectBlock() {
-    const ProjectSettings project = resolveProjectSettings({});
+    const ProjectSettings project = resolveProjectSettings(settings_.project);
     kernel::ProjectBlock b{};
     b.gridOrigin = grid_->origin();
     b.cellSize = grid_->cellSize();
@@ -159,7 +161,7 @@ void ProbeProjectionPass::uploadProjectBlock() {
     b.residentPerCell = std::max(settings_.residentCandidates, 0);
     b.uncoveredAo = uncoveredAo_;
     b.cellCount = std::uint32_t(grid_->cellCount());
-    b.params = {project.depthTolerance, project.depthSlope, project.minFacing, res_, depthRes_};
+    b.params = {project.depthTolerance, project.depthSlope, project.minFacing, res_, depthRes_, project.depthOffset};
     if (block_.id() == 0)
         block_ = gl::UniformBlock::create(b);
     else

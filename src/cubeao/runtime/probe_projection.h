@@ -47,6 +47,8 @@ struct ProbeProjectionSettings {
     // The level of detail every probe of a cache with levels is held at (0: the finest; Error for a
     // level the cache lacks): `render --level`, which measures what each level costs the picture.
     std::uint32_t level = 0;
+    // The depth test's settings (projection.h; zero fields: the defaults): `render --depth-lift`.
+    ProjectSettings project;
 };
 
 class ProbeProjectionPass : public AoPass {

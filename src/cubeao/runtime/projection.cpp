@@ -16,7 +16,7 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 kernel::ProjectionParams kernelParams(const ProjectSettings& s, int res, int depthRes) {
-    return {s.depthTolerance, s.depthSlope, s.minFacing, res, depthRes};
+    return {s.depthTolerance, s.depthSlope, s.minFacing, res, depthRes, s.depthOffset};
 }
 
 // The probes of projectAo as the shared loop (shaders/common/projection.h) reads them: candidate k is
@@ -48,6 +48,7 @@ struct DecodedReader {
 ProjectSettings resolveProjectSettings(ProjectSettings s) {
     if (s.depthTolerance == 0.0f) s.depthTolerance = depth::kDepthTolerance;
     if (s.depthSlope == 0.0f) s.depthSlope = depth::kDepthSlope;
+    if (s.depthOffset == 0.0f) s.depthOffset = depth::kDepthOffset;
     if (s.minFacing == 0.0f) s.minFacing = 0.05f;
     return s;
 }
@@ -63,21 +64,34 @@ double texelFootprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec
 
 namespace {
 
-bool probeSeesStored(const glm::vec3& probe, float stored, int res, int depthRes, const glm::vec3& x,
+bool probeSeesStored(const glm::vec3& probe, StoredDistances stored, int res, int depthRes, const glm::vec3& x,
                      const glm::vec3& n, const ProjectSettings& settings) {
     const glm::vec3 d = x - probe;
     const float distance = glm::length(d);
-    return kernel::probeSeesPoint(stored, distance, -glm::dot(n, d) / distance, kernelParams(settings, res, depthRes));
+    return kernel::probeSeesPoint(stored.atPoint, distance, -glm::dot(n, d) / distance, stored.atLifted,
+                                  glm::length(depthLiftedPoint(probe, x, n, depthRes, settings) - probe),
+                                  kernelParams(settings, res, depthRes));
+}
+
+StoredDistances storedFor(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n,
+                          const ProjectSettings& settings) {
+    const glm::vec3 lifted = depthLiftedPoint(probe.position, x, n, probe.depthRes, settings);
+    return {probe.distance[cube::texelIndex(x - probe.position, probe.depthRes)],
+            probe.distance[cube::texelIndex(lifted - probe.position, probe.depthRes)]};
 }
 
 }  // namespace
 
-bool probeSees(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n, const ProjectSettings& settings) {
-    const float stored = probe.distance[cube::texelIndex(x - probe.position, probe.depthRes)];
-    return probeSeesStored(probe.position, stored, probe.res, probe.depthRes, x, n, settings);
+glm::vec3 depthLiftedPoint(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n, int depthRes,
+                           const ProjectSettings& settings) {
+    return kernel::depthLiftedPoint(x, n, glm::length(x - probe), settings.depthOffset, depthRes);
 }
 
-double visibleFootprint(const glm::vec3& probe, float stored, int res, int depthRes, const glm::vec3& x,
+bool probeSees(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n, const ProjectSettings& settings) {
+    return probeSeesStored(probe.position, storedFor(probe, x, n, settings), probe.res, probe.depthRes, x, n, settings);
+}
+
+double visibleFootprint(const glm::vec3& probe, StoredDistances stored, int res, int depthRes, const glm::vec3& x,
                         const glm::vec3& n, const ProjectSettings& settings) {
     if (!probeSeesStored(probe, stored, res, depthRes, x, n, settings)) return kInfinity;
     return texelFootprint(probe, x, n, res, settings.minFacing);
@@ -85,8 +99,7 @@ double visibleFootprint(const glm::vec3& probe, float stored, int res, int depth
 
 double visibleFootprint(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n,
                         const ProjectSettings& settings) {
-    const float stored = probe.distance[cube::texelIndex(x - probe.position, probe.depthRes)];
-    return visibleFootprint(probe.position, stored, probe.res, probe.depthRes, x, n, settings);
+    return visibleFootprint(probe.position, storedFor(probe, x, n, settings), probe.res, probe.depthRes, x, n, settings);
 }
 
 Projected projectAo(std::span<const DecodedProbe> candidates, const glm::vec3& x, const glm::vec3& n,

@@ -24,6 +24,8 @@ namespace cubeao {
 struct ProjectSettings {
     float depthTolerance = 0.0f;  // relative bias of the depth test; 0 → depth::kDepthTolerance
     float depthSlope = 0.0f;      // slope-scaled bias; 0 → depth::kDepthSlope (src/cubeao/cache/depth_cube.h)
+    float depthOffset = 0.0f;     // lift of the test's second half in coarse texels; 0 → depth::kDepthOffset
+                                  // (off; depth::kThinWallLift: no leak through thin walls)
     float minFacing = 0.0f;       // smallest cos θ between normal and probe direction used; 0 → 0.05
 };
 
@@ -42,9 +44,10 @@ struct DecodedProbe {
 // (2/res)² / (1 + u² + v²)^{3/2}; area = solid angle · d² / |cos θ|.
 double texelFootprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n, int res, float minFacing);
 
-// Whether the probe sees surface point x with normal n (turned to the camera): depth::visible() of
-// src/cubeao/cache/depth_cube.h with the settings' biases, except that an empty texel (the probe saw
-// no surface that way) does not count as seeing x: its AO texels hold nothing for x either.
+// Whether the probe sees surface point x with normal n (turned to the camera): depth::visible() and
+// depth::liftedClear() of src/cubeao/cache/depth_cube.h with the settings' biases and lift, except
+// that an empty texel in x's direction (the probe saw no surface that way) does not count as seeing
+// x: its AO texels hold nothing for x either.
 bool probeSees(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n, const ProjectSettings& settings);
 
 // texelFootprint() of a probe that sees x (probeSees), +inf when it does not: the area that ranks
@@ -52,10 +55,19 @@ bool probeSees(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n
 // (probe_grid.h), so the grid chooses by what the pass will rank.
 double visibleFootprint(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n,
                         const ProjectSettings& settings);
-// The same for a probe at `probe` (faces res², distance cube depthRes²) whose distance texel in the
-// direction of x is `stored` (cube::texelIndex(x − probe, depthRes)), for readers that hold the
-// distance cube in another form (the run-time's stored bytes, probe_source.h).
-double visibleFootprint(const glm::vec3& probe, float stored, int res, int depthRes, const glm::vec3& x,
+// Surface point x with normal n lifted off its surface by settings.depthOffset coarse texels of a
+// depthRes cube, for the depth test's second half (shaders/common/depth_test.h depthLiftedPoint).
+glm::vec3 depthLiftedPoint(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n, int depthRes,
+                           const ProjectSettings& settings);
+// The two distance texels the depth test reads for x: cube::texelIndex(x − probe, depthRes) and
+// cube::texelIndex(depthLiftedPoint(...) − probe, depthRes).
+struct StoredDistances {
+    float atPoint = 0.0f, atLifted = 0.0f;
+};
+// The same for a probe at `probe` (faces res², distance cube depthRes²) whose two distance texels for
+// x are `stored`, for readers that hold the distance cube in another form (the run-time's stored
+// bytes, probe_source.h).
+double visibleFootprint(const glm::vec3& probe, StoredDistances stored, int res, int depthRes, const glm::vec3& x,
                         const glm::vec3& n, const ProjectSettings& settings);
 
 struct Projected {

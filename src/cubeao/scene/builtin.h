@@ -35,7 +35,7 @@ struct BuiltinScene {
 void registerBuiltinScene(const std::string& name, BuiltinScene scene);
 
 bool isBuiltinSpec(const std::string& spec);            // starts with "builtin:"
-std::vector<std::string> builtinSceneNames();           // sorted: "box-room", "cloister", "sphere-plane", "town"
+std::vector<std::string> builtinSceneNames();           // sorted: "box-room", "cloister", ..., "two-rooms"
 // "builtin:NAME[:ARG]"; Error listing the names if unknown, or when NAME takes no ARG and one is given.
 Scene makeBuiltinScene(const std::string& spec);
 CameraPath builtinCameraPath(const std::string& spec);  // the scene's own short walk (for the same ARG)

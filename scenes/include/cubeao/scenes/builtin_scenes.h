@@ -9,7 +9,7 @@
 
 namespace cubeao::scenes {
 
-// Registers builtin:sphere-plane, builtin:box-room, builtin:cloister and builtin:town with scene/builtin.h, so
+// Registers builtin:sphere-plane, builtin:box-room, builtin:two-rooms, builtin:cloister and builtin:town with scene/builtin.h, so
 // loadScene, makeBuiltinScene and resolveCameraPath find them. Call once at program start (the CLI's
 // main and the tests' main do); later calls do nothing. Thread-safe.
 void registerBuiltinScenes();
@@ -26,6 +26,13 @@ CameraPath spherePlanePath();
 inline constexpr float kRoomX = 8.0f, kRoomY = 3.0f, kRoomZ = 6.0f;
 Scene makeBoxRoom();
 CameraPath boxRoomPath();
+
+// Two closed rooms [0, 4] × [0, 3] × [0, 4] and [4.02, 8.02] × [0, 3] × [0, 4] (metres) that share a
+// 2 cm wall, with a cabinet in room A and a table in room B; its walk stays in room B. The thin-wall case of the depth test
+// (issue 34 item 4): a probe in room A must serve nothing of room B, at any level of detail.
+inline constexpr float kTwoRoomsX = 4.0f, kTwoRoomsY = 3.0f, kTwoRoomsZ = 4.0f, kTwoRoomsWall = 0.02f;
+Scene makeTwoRooms();
+CameraPath twoRoomsPath();
 
 // A small cloister: a square garth with a fountain, four arcaded walks under a lean-to roof and an
 // outer wall; tens of thousands of triangles. The default scene of the README's main command.
