@@ -39,8 +39,8 @@ struct RenderArgs {
     float radius = 0.0f, alpha = 1.0f, alchemySigma = 0.0f;
     double gpuBudgetMb = 0.0, uploadMb = 0.0;  // probes: 0 = everything resident; 0 = the default bound
     std::string fallback = "gtao";
-    std::uint32_t seed = 0, level = 0;
-    float depthLift = 0.0f;  // probes: the depth test's lift (projection.h ProjectSettings::depthOffset)  // level: probes, the level of detail every probe is held at
+    std::uint32_t seed = 0, level = 0;  // level: probes, the level of detail every probe is held at
+    float depthLift = 0.0f;             // probes: the depth test's lift (projection.h ProjectSettings::depthOffset)
     bool json = false;
 };
 
