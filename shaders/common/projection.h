@@ -107,12 +107,16 @@ CUBEAO_READER_FN ProjectedAo projectCandidates(CUBEAO_READER(reader) int count, 
         int level = CUBEAO_READ(reader) projectionLevel(probe);
         q.res = p.res >> level;
         q.depthRes = max(p.depthRes >> level, 1);
-        vec3 lifted = depthLiftedPoint(d, n, distance, q.depthOffset, q.depthRes);  // from the probe
-        vec2 liftedSc;
-        int liftedFace = cubeFaceOf(lifted, liftedSc);
-        if (!probeSeesPoint(CUBEAO_READ(reader) projectionDistance(probe, slot, face, sc), distance, cosine,
-                            CUBEAO_READ(reader) projectionDistance(probe, slot, liftedFace, liftedSc), length(lifted), q))
-            continue;
+        float stored = CUBEAO_READ(reader) projectionDistance(probe, slot, face, sc);
+        float liftedStored = 0.0f, liftedDistance = 0.0f;  // read only with a lift: no second fetch without
+        if (q.depthOffset > 0.0f) {
+            vec3 lifted = depthLiftedPoint(d, n, distance, q.depthOffset, q.depthRes);  // from the probe
+            vec2 liftedSc;
+            int liftedFace = cubeFaceOf(lifted, liftedSc);
+            liftedStored = CUBEAO_READ(reader) projectionDistance(probe, slot, liftedFace, liftedSc);
+            liftedDistance = length(lifted);
+        }
+        if (!probeSeesPoint(stored, distance, cosine, liftedStored, liftedDistance, q)) continue;
         vec2 v = CUBEAO_READ(reader) projectionAoConfidence(probe, slot, face, sc);
         vec2 r = vec2(CUBEAO_READ(reader) projectionQualityScale(probe) * v.y /
                           probeTexelArea(sc, distance, cosine, q.res, p.minFacing),
