@@ -68,16 +68,20 @@ bool probeSeesStored(const glm::vec3& probe, StoredDistances stored, int res, in
                      const glm::vec3& n, const ProjectSettings& settings) {
     const glm::vec3 d = x - probe;
     const float distance = glm::length(d);
+    const float liftedDistance =
+        settings.depthOffset > 0.0f ? glm::length(depthLiftedPoint(probe, x, n, depthRes, settings) - probe) : 0.0f;
     return kernel::probeSeesPoint(stored.atPoint, distance, -glm::dot(n, d) / distance, stored.atLifted,
-                                  glm::length(depthLiftedPoint(probe, x, n, depthRes, settings) - probe),
-                                  kernelParams(settings, res, depthRes));
+                                  liftedDistance, kernelParams(settings, res, depthRes));
 }
 
 StoredDistances storedFor(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n,
                           const ProjectSettings& settings) {
-    const glm::vec3 lifted = depthLiftedPoint(probe.position, x, n, probe.depthRes, settings);
-    return {probe.distance[cube::texelIndex(x - probe.position, probe.depthRes)],
-            probe.distance[cube::texelIndex(lifted - probe.position, probe.depthRes)]};
+    StoredDistances s{probe.distance[cube::texelIndex(x - probe.position, probe.depthRes)], 0.0f};
+    if (settings.depthOffset > 0.0f) {  // the lifted texel only with a lift, as the shader reads it
+        const glm::vec3 lifted = depthLiftedPoint(probe.position, x, n, probe.depthRes, settings);
+        s.atLifted = probe.distance[cube::texelIndex(lifted - probe.position, probe.depthRes)];
+    }
+    return s;
 }
 
 }  // namespace
