@@ -19,7 +19,10 @@ cd build-asan
 # process) and CliFormats (one file of each format assimp reads, the same kind of run): 37 % of the
 # sanitized time for what the plain run checks already and fuzz_mesh covers under the sanitizers; it
 # keeps CI near 45 minutes.
-skip=(-E 'CliRobustness|CliFormats')
+# Also CompareDirs.EmptyOrMissingDirectoriesThrow: its body passes under the sanitizers, then
+# LeakSanitizer's tracer crashes at the process's exit (google/sanitizers#1353; docs/RELIABILITY.md),
+# in every ci-like clone since 2026-12-07 and not in the source tree; the plain run keeps it.
+skip=(-E 'CliRobustness|CliFormats|CompareDirs.EmptyOrMissingDirectoriesThrow')
 # The viewer's window tests need an X server, as in tools/test.sh.
 if [ -z "${DISPLAY:-}" ] && command -v xvfb-run >/dev/null; then
   xvfb-run -a -s "-screen 0 640x480x24" ctest --output-on-failure -j2 --timeout 1200 "${skip[@]}"
