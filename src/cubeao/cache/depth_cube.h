@@ -129,17 +129,13 @@ struct Lifted {
     float distance = 0.0f;  // the lifted point's distance from the probe
 };
 
-// The first half alone. `stored`: the decoded texel in the point's direction; `distance`: from the probe to
-// the point; `cosine`: cos θ between the point's normal, turned to the side the camera sees, and the
-// direction from the point to the probe. An empty texel (0) hides nothing.
-inline bool visible(const DepthTest& t, float stored, float distance, float cosine, int depthRes) {
-    if (t.facing && !(cosine > 0.0f)) return false;
-    if (!(stored > 0.0f)) return true;
-    return kernel::depthWithinBias(stored, distance, cosine, t.tolerance, t.slope, depthRes);
-}
-// The whole test: the first half and, beyond the relative tolerance, the lifted point clear as well
-// (common/depth_test.h depthVisible; t.offset 0: the first half alone).
-inline bool visible(const DepthTest& t, float stored, float distance, float cosine, int depthRes, Lifted lifted) {
+// The whole test (common/depth_test.h depthVisible). `stored`: the decoded texel in the point's
+// direction; `distance`: from the probe to the point; `cosine`: cos θ between the point's normal,
+// turned to the side the camera sees, and the direction from the point to the probe. An empty texel
+// (0) hides nothing. Beyond the relative tolerance the lifted point must be clear as well (t.offset 0:
+// no lift); without `lifted` (an empty texel there) that half passes, i.e. the first half alone.
+inline bool visible(const DepthTest& t, float stored, float distance, float cosine, int depthRes,
+                    Lifted lifted = {}) {
     if (t.facing && !(cosine > 0.0f)) return false;
     if (!(stored > 0.0f)) return true;
     return kernel::depthVisible(stored, distance, cosine, lifted.stored, lifted.distance, t.tolerance, t.slope,

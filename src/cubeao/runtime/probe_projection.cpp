@@ -106,11 +106,8 @@ ProbeProjectionPass::ProbeProjectionPass(const CacheReader* cache, const CachePa
         touched->touch(probe);
         const glm::vec3 at = source_.position(ProbeId{probe});
         if (x.position == at) return 0.0;  // no direction to look up
-        StoredDistances stored{source_.distance(ProbeId{probe}, cube::texelIndex(x.position - at, depthRes_)), 0.0f};
-        if (project.depthOffset > 0.0f) {  // the lifted texel only with a lift, as the shader reads it
-            const glm::vec3 lifted = depthLiftedPoint(at, x.position, x.normal, depthRes_, project);
-            stored.atLifted = source_.distance(ProbeId{probe}, cube::texelIndex(lifted - at, depthRes_));
-        }
+        const StoredDistances stored = storedDistances(at, x.position, x.normal, depthRes_, project,
+                                                       [&](std::size_t t) { return source_.distance(ProbeId{probe}, t); });
         const double area = visibleFootprint(at, stored, res_, depthRes_, x.position, x.normal, project);
         return area > 0.0 ? 1.0 / area : 0.0;  // 1 / inf = 0: not seen
     };

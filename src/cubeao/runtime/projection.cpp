@@ -76,12 +76,8 @@ bool probeSeesStored(const glm::vec3& probe, StoredDistances stored, int res, in
 
 StoredDistances storedFor(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n,
                           const ProjectSettings& settings) {
-    StoredDistances s{probe.distance[cube::texelIndex(x - probe.position, probe.depthRes)], 0.0f};
-    if (settings.depthOffset > 0.0f) {  // the lifted texel only with a lift, as the shader reads it
-        const glm::vec3 lifted = depthLiftedPoint(probe.position, x, n, probe.depthRes, settings);
-        s.atLifted = probe.distance[cube::texelIndex(lifted - probe.position, probe.depthRes)];
-    }
-    return s;
+    return storedDistances(probe.position, x, n, probe.depthRes, settings,
+                           [&](std::size_t texel) { return probe.distance[texel]; });
 }
 
 }  // namespace

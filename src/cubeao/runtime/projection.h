@@ -19,6 +19,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "cubeao/core/cube.h"
+
 namespace cubeao {
 
 struct ProjectSettings {
@@ -44,8 +46,8 @@ struct DecodedProbe {
 // (2/res)² / (1 + u² + v²)^{3/2}; area = solid angle · d² / |cos θ|.
 double texelFootprint(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n, int res, float minFacing);
 
-// Whether the probe sees surface point x with normal n (turned to the camera): depth::visible() and
-// depth::liftedClear() of src/cubeao/cache/depth_cube.h with the settings' biases and lift, except
+// Whether the probe sees surface point x with normal n (turned to the camera): depth::visible() of
+// src/cubeao/cache/depth_cube.h (both halves) with the settings' biases and lift, except
 // that an empty texel in x's direction (the probe saw no surface that way) does not count as seeing
 // x: its AO texels hold nothing for x either.
 bool probeSees(const DecodedProbe& probe, const glm::vec3& x, const glm::vec3& n, const ProjectSettings& settings);
@@ -64,6 +66,16 @@ glm::vec3 depthLiftedPoint(const glm::vec3& probe, const glm::vec3& x, const glm
 struct StoredDistances {
     float atPoint = 0.0f, atLifted = 0.0f;
 };
+// Those texels read through `distanceAt(texel index)` from a probe at `probe`: the lifted one only with
+// a lift (settings.depthOffset > 0), as the shader reads it; one rule for every reader of the cube.
+template <class DistanceAt>
+StoredDistances storedDistances(const glm::vec3& probe, const glm::vec3& x, const glm::vec3& n, int depthRes,
+                                const ProjectSettings& settings, DistanceAt&& distanceAt) {
+    StoredDistances s{distanceAt(cube::texelIndex(x - probe, depthRes)), 0.0f};
+    if (settings.depthOffset > 0.0f)
+        s.atLifted = distanceAt(cube::texelIndex(depthLiftedPoint(probe, x, n, depthRes, settings) - probe, depthRes));
+    return s;
+}
 // The same for a probe at `probe` (faces res², distance cube depthRes²) whose two distance texels for
 // x are `stored`, for readers that hold the distance cube in another form (the run-time's stored
 // bytes, probe_source.h).
