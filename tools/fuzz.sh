@@ -23,7 +23,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$work" "$artifacts"
   cp -n tests/fuzz/corpus/"$t"/* "$work"/ 2>/dev/null || true
   echo "fuzz: $t (${limit[*]})"
-  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:intercept_tls_get_addr=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     "build-fuzz/tests/fuzz/fuzz_$t" "$work" "${limit[@]}" -rss_limit_mb=2048 -timeout=20 \
     -artifact_prefix="$artifacts/" -print_final_stats=1 >"build-fuzz/fuzz_$t.log" 2>&1 ||
     { tail -40 "build-fuzz/fuzz_$t.log"; echo "fuzz: $t FAILED (input in $artifacts/)" >&2; exit 1; }

@@ -2,9 +2,7 @@
 // answers: texel footprint, depth test, the soft best-two blend, and continuity when probes swap rank;
 // and on a probe the CPU bake makes in builtin:two-rooms (two rooms that share a 2 cm wall), against
 // Embree's truth: with the depth test's lift, a probe serves nothing of the room behind a thin wall at
-// any level of detail (issue 34 item 4). (That test lives here, not in a file of its own: with one more
-// translation unit in this binary, LeakSanitizer's tracer crashed at the exit of
-// CompareDirs.EmptyOrMissingDirectoriesThrow in the sanitized build, every run; docs/RELIABILITY.md.)
+// any level of detail (issue 34 item 4).
 #include <gtest/gtest.h>
 
 #include <cmath>
