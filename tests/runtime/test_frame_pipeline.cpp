@@ -278,8 +278,10 @@ std::unique_ptr<AoPass> streamingProbes(const Scene& scene) {
     const std::size_t perProbe = probeGpuBytes(cache.params());
     ProbeProjectionSettings settings;
     settings.residency.uploadBytesPerFrame = perProbe;
-    const std::size_t all = ProbeProjectionPass(cache, scene.positions, scene.indices, settings).gpuBytes();
-    settings.residency.gpuBudgetBytes = all - 3 * perProbe + 1024;  // the slack: feedback padding reserved
+    const ProbeProjectionPass unbudgeted(cache, scene.positions, scene.indices, settings);
+    // (+ the staging ring a budgeted pass holds from the start, + the slack: feedback padding reserved)
+    const std::size_t all = unbudgeted.gpuBytes() + unbudgeted.residency().stagingBytes();
+    settings.residency.gpuBudgetBytes = all - 3 * perProbe + 1024;
     auto pass = std::make_unique<ProbeProjectionPass>(cache, scene.positions, scene.indices, settings);
     pass->setFallback(std::make_unique<GtaoFallback>(methodSettings(SsaoMethod::Gtao, cache.params().radius)));
     return pass;

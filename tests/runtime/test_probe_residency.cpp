@@ -143,6 +143,9 @@ protected:
     static std::unique_ptr<ProbeProjectionPass> pass(const CacheReader& cache, const ProbeProjectionSettings& s) {
         return std::make_unique<ProbeProjectionPass>(cache, test::boxRoom().positions, test::boxRoom().indices, s);
     }
+    // An unbudgeted pass's bytes with the staging ring a budgeted one holds from the start (it makes
+    // its own only when a probe comes after the first frame).
+    static std::size_t withStaging(const ProbeProjectionPass& p) { return p.gpuBytes() + p.residency().stagingBytes(); }
     static CameraView view(glm::vec3 eye, glm::vec3 target) {
         return test::viewOf(test::singleFrame(eye, target), 0, 48, 32);
     }
@@ -195,7 +198,7 @@ TEST_F(ResidencyGl, ProbesWithoutASlotAreDrawnAtTheCoarseTier) {
     // two probes a frame, so that the tier is at most a quarter of what the budget leaves for probes
     // and their staging (coarseTierLevel).
     const std::size_t upload = 2 * perProbe;
-    const std::size_t budget = pass(cache, 0, upload)->gpuBytes() - (roomProbes().size() - 2) * perProbe +
+    const std::size_t budget = withStaging(*pass(cache, 0, upload)) - (roomProbes().size() - 2) * perProbe +
                                roomProbes().size() * coarse + 1024;
     const CameraView v = view({1.5f, 1.2f, 2.0f}, {7.5f, 0.3f, 0.5f});  // down the room: far probes seen
     const auto settle = [&](FrameRenderer& r) {
@@ -277,7 +280,7 @@ TEST_F(ResidencyGl, ASmallBudgetEvictsAndReloadsAndAReloadedProbeGivesIdenticalP
     const std::size_t perProbe = probeGpuBytes(cache.params());
     // Room for two probes: all six less four, with the same upload bound (the staging ring counts),
     // plus slack for the feedback ring's alignment padding, which the budget reserves at its largest.
-    const std::size_t budget = pass(cache, 0, perProbe)->gpuBytes() - (roomProbes().size() - 2) * perProbe + 1024;
+    const std::size_t budget = withStaging(*pass(cache, 0, perProbe)) - (roomProbes().size() - 2) * perProbe + 1024;
     auto r = renderer(pass(cache, budget, perProbe));
     auto& projection = dynamic_cast<ProbeProjectionPass&>(r->method());
     ASSERT_LT(projection.residency().slots(), roomProbes().size());
@@ -326,10 +329,15 @@ TEST_F(ResidencyGl, AProbeAddedAtRunTimeGivesTheFrameOfTheSameProbeFromACache) {
     live->render(v, 0);
     const Image withoutIt = live->readRawAo();
     auto& projection = dynamic_cast<ProbeProjectionPass&>(live->method());
+    const std::size_t before = projection.gpuBytes();
+    EXPECT_EQ(projection.allocatedGpuBytes(), before) << "no budget, every probe loaded at once: no staging yet";
     const ProbeId id = projection.addProbe(full.copyProbe(roomProbes().size() - 1));
     EXPECT_EQ(index(id), roomProbes().size() - 1);
     for (int f = 0; f < 3; ++f) live->render(v, 0);  // the new probe streams in within the bound
     const Image added = live->readRawAo();
+    EXPECT_GT(projection.residency().stagingBytes(), 0u);
+    EXPECT_EQ(projection.allocatedGpuBytes(), projection.gpuBytes()) << "the ring it streamed through, counted";
+    EXPECT_GE(projection.gpuBytes(), before + projection.residency().stagingBytes());
     EXPECT_NE(added.pixels, withoutIt.pixels) << "the sixth probe must change this view";
     EXPECT_EQ(added.pixels, expected.pixels);
 

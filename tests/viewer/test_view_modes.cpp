@@ -84,9 +84,10 @@ std::unique_ptr<FrameRenderer> probeRenderer(const CacheReader& cache) {
     const std::size_t perProbe = probeGpuBytes(cache.params());
     ProbeProjectionSettings s;
     s.residency.uploadBytesPerFrame = perProbe;
-    const std::size_t all =
-        ProbeProjectionPass(cache, cloister().positions, cloister().indices, s).gpuBytes();
-    s.residency.gpuBudgetBytes = all - 3 * perProbe + 1024;  // + the feedback ring's alignment slack
+    const ProbeProjectionPass unbudgeted(cache, cloister().positions, cloister().indices, s);
+    // (+ the staging ring a budgeted pass holds from the start, + the feedback ring's alignment slack)
+    const std::size_t all = unbudgeted.gpuBytes() + unbudgeted.residency().stagingBytes();
+    s.residency.gpuBudgetBytes = all - 3 * perProbe + 1024;
     auto pass = std::make_unique<ProbeProjectionPass>(cache, cloister().positions, cloister().indices, s);
     pass->setFallback(std::make_unique<GtaoFallback>(gtaoSettings()));
     return std::make_unique<FrameRenderer>(cloister().positions, cloister().indices, std::move(pass), BlurSettings{},

@@ -127,12 +127,10 @@ ProbeAtlas::ProbeAtlas(const ProbeSource& source, std::size_t fixedBytes, const 
     uploadBound_ = pool.uploadBound;
     planner_ = ResidencyPlanner(pool.slots, perProbe, uploadBound_);
     allocateAtlas(pool);
-    // Made now even without a budget, where the first frame loads every probe straight from the source
-    // and the ring waits for probes that come later: made on first need instead, the processes that
-    // render and then write images (the image plugin is dlopen'ed after GL) crashed LeakSanitizer's
-    // tracer at exit, every run (ViewerWindow.EveryViewModeRendersWithoutGlErrors' `cubeao render`,
-    // 2026-12-06).
-    staging_->upload = gl::UploadRing(kStagingRegions, stagingRegionBytes(uploadBound_));
+    // A budgeted pass streams: its ring now, inside the budget. Without a budget the first frame loads
+    // every probe straight from the source, and the ring is made when a probe comes later (live
+    // placement), if one does: `cubeao render` never holds its 2 × 8 MiB.
+    if (!unlimited_) makeStaging();
     syncProbes(source);
 }
 
@@ -232,6 +230,13 @@ void ProbeAtlas::ensureCapacity(std::size_t probes) {
     glNamedBufferStorage(staging_->demand.id(), GLsizeiptr(staging_->words * 4), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
+std::size_t ProbeAtlas::stagingBytes() const { return kStagingRegions * stagingRegionBytes(uploadBound_); }
+
+void ProbeAtlas::makeStaging() {
+    staging_->upload = gl::UploadRing(kStagingRegions, stagingRegionBytes(uploadBound_));
+    updateGpuBytes();
+}
+
 // What allocateAtlas, ensureCapacity and the staging ring hold now.
 void ProbeAtlas::updateGpuBytes() {
     stats_.gpuBytes = atlasBytes_ + staging_->upload.bytes() + capacity_ * sizeof(kernel::ProbeEntry) +
@@ -299,6 +304,7 @@ void ProbeAtlas::upload(const ProbeView& p, SlotId slot, bool direct) {
     const void* ao = p.aoConfidence.data();
     const void* depth = p.depth.data();
     if (!direct) {  // through this frame's staging region: the copy returns before the GPU reads it
+        if (staging_->upload.bytes() == 0) makeStaging();
         const std::size_t region = std::size_t(frame() % std::int64_t(kStagingRegions));
         gl::UploadRing& ring = staging_->upload;
         ao = reinterpret_cast<const void*>(ring.write(region, stats_.frameUploadBytes, std::as_bytes(p.aoConfidence)));
@@ -317,7 +323,7 @@ void ProbeAtlas::update(const ProbeSource& source, std::span<const ProbeId> want
     readFeedback();
     stats_.frameUploads = 0, stats_.frameUploadBytes = 0;
     const std::size_t region = std::size_t(frame() % std::int64_t(kStagingRegions));
-    if (!unbounded && !staging_->upload.writable(region)) {  // (unbounded uploads go straight from the source's memory)
+    if (!unbounded && staging_->upload.bytes() > 0 && !staging_->upload.writable(region)) {  // (unbounded uploads go straight from the source's memory)
         stats_.frameUploadMs = 0.0;  // the GPU still reads this region: load nothing this frame
         return;
     }

@@ -80,6 +80,9 @@ public:
     // copied on the GPU into one twice the size) when probes are added beyond it.
     std::size_t slots() const { return planner_.slots(); }
     std::size_t uploadBound() const { return uploadBound_; }  // bytes per frame at most
+    // The staging ring's bytes: held from the start under a budget (counted in it), made on the first
+    // upload that needs it without one (a probe added after the first frame).
+    std::size_t stagingBytes() const;
     std::int64_t frame() const { return planner_.frame(); }  // frames bound so far
     // Keeps the probe table in step with the source (new ids, removed ones); call after add/remove.
     void syncProbes(const ProbeSource& source);
@@ -138,6 +141,7 @@ private:
     void allocateAtlas(const ResidencyPool& pool);
     void growAtlas(std::size_t slots, const ProbeSource& source);
     void updateGpuBytes();
+    void makeStaging();  // the staging ring for uploadBound_, counted in the GPU bytes
     // Probe `id`'s table entry; `slotChanged` false: only its fade moved (the resident version stays).
     void writeEntry(ProbeId id, const ProbeSource& source, bool slotChanged = true);
     void readFeedback();
