@@ -7,17 +7,20 @@ Every candidate is baked once (one single-probe cache each, `bake --shard I/N`);
 reference. Greedy: each step adds the candidate whose set renders with the least MAE; then swap
 passes replace each member by the candidate that lowers the MAE most, until none does. What this
 reaches at N probes is what a placement that chose from the same candidates by the measured error
-would reach: if it is above a target, no objective over these candidates meets that target.
+would reach: if it is above a target, no objective over these candidates meets that target. Every
+set measured is kept in OUT_DIR/measured.json (a table to fit an error model to).
 
     python3 tools/oracle_place.py SCENE WALK OUT_DIR COUNT CANDIDATES.json [SET.json ...]
 
 CANDIDATES.json and each SET.json are probes.json files; the SETs (e.g. path's and the default
 placement's) are measured on the same subsampled walk for comparison and their probes join the
 candidates. Env: BIN (build/cubeao), RES (512), STRIDE (3: every 3rd frame of the walk), W H (160 90),
-SPP (512), SWAPS (1: swap passes).
+SPP (512), SWAPS (1: swap passes), GREEDY (1; 0: no greedy, no swaps), RANDOM_SETS (0: random sets of
+COUNT measured first, RANDOM_SEED 1).
 """
 import json
 import os
+import random
 import subprocess
 import sys
 
@@ -27,6 +30,9 @@ STRIDE = int(os.environ.get("STRIDE", "3"))
 W, H = os.environ.get("W", "160"), os.environ.get("H", "90")
 SPP = os.environ.get("SPP", "512")
 SWAPS = int(os.environ.get("SWAPS", "1"))
+GREEDY = int(os.environ.get("GREEDY", "1"))
+RANDOM_SETS = int(os.environ.get("RANDOM_SETS", "0"))
+RANDOM_SEED = int(os.environ.get("RANDOM_SEED", "1"))
 
 
 def run(*args):
@@ -86,13 +92,19 @@ def main():
         result["sets"][os.path.basename(f)] = mae(members)
         print(f"{f}: {len(members)} probes, MAE {result['sets'][os.path.basename(f)]:.5f}", flush=True)
 
+    # Random sets of COUNT (a spread of good and bad sets to fit an error model to).
+    rng = random.Random(RANDOM_SEED)
+    for r in range(RANDOM_SETS):
+        members = rng.sample(range(n), count)
+        print(f"random {r + 1}/{RANDOM_SETS}: MAE {mae(members):.5f}", flush=True)
+
     chosen = []
-    while len(chosen) < count:
+    while GREEDY and len(chosen) < count:
         best = min((i for i in range(n) if i not in chosen), key=lambda i: mae(chosen + [i]))
         chosen.append(best)
         print(f"greedy {len(chosen)}: + {cands[best]} MAE {mae(chosen):.5f}", flush=True)
-    result["greedy"] = mae(chosen)
-    for sweep in range(SWAPS):
+    result["greedy"] = mae(chosen) if chosen else None
+    for sweep in range(SWAPS if chosen else 0):
         improved = False
         for k in range(count):
             rest = chosen[:k] + chosen[k + 1:]
@@ -103,11 +115,16 @@ def main():
                 print(f"swap {sweep + 1}.{k + 1}: MAE {mae(chosen):.5f}", flush=True)
         if not improved:
             break
-    result["oracle"] = mae(chosen)
+    result["oracle"] = mae(chosen) if chosen else None
     result["oracle_probes"] = [list(cands[i]) for i in chosen]
     result["renders"] = len(memo)
-    json.dump({"version": 1, "probes": [{"pos": list(cands[i])} for i in chosen]},
-              open(os.path.join(out, "oracle.json"), "w"))
+    # Every set measured, for fitting an error model to (the members as candidate indices).
+    json.dump({"candidates": [list(p) for p in cands],
+               "sets": [{"members": list(k), "mae": v} for k, v in memo.items()]},
+              open(os.path.join(out, "measured.json"), "w"))
+    if chosen:
+        json.dump({"version": 1, "probes": [{"pos": list(cands[i])} for i in chosen]},
+                  open(os.path.join(out, "oracle.json"), "w"))
     json.dump(result, open(os.path.join(out, "result.json"), "w"), indent=1)
     print(json.dumps(result), flush=True)
 
