@@ -166,7 +166,7 @@ TEST_F(RuntimeGl, RenderOneProbeInTheBoxRoomAgainstTheReference) {
 
 // Issue 34 item 4 on the GPU: one probe in room A of builtin:two-rooms, every level baked; room B's
 // walk with --depth-lift takes nothing from it at any level (every pixel falls back), without it
-// strips along the 2 cm wall do (the kernel's CPU twin: ThinWall.* in tests/runtime/test_projection.cpp).
+// strips along the 2 cm wall do (the kernel's CPU twin: tests/runtime/test_thin_wall.cpp).
 TEST_F(RuntimeGl, RenderWithDepthLiftTakesNothingThroughAThinWall) {
     TempDir dir;
     const std::string probes = dir.write("probes.json", R"({"version":1,"probes":[{"pos":[2,1.5,2]}]})");
