@@ -17,9 +17,7 @@
 
 #include "cubeao/bake/bake.h"
 #include "cubeao/bake/bake_driver.h"
-#include "cubeao/cache/bc4.h"
 #include "cubeao/cache/cache_file.h"
-#include "cubeao/cache/depth_cube.h"
 #include "cubeao/reference/embree_scene.h"
 #include "cubeao/runtime/camera_gbuffer.h"
 #include "cubeao/runtime/camera_view.h"
@@ -30,6 +28,7 @@
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/import.h"
 #include "bake_test_settings.h"
+#include "decoded_probe.h"
 #include "gl_fixture.h"
 #include "test_util.h"
 #include "test_paths.h"
@@ -37,25 +36,6 @@
 namespace {
 
 using namespace cubeao;
-
-struct Decoded {
-    std::vector<float> ao, confidence, distance;
-};
-
-// Every probe of `cache` decoded for the CPU twin: `decoded` holds the texels, `views` points into it.
-void decodeProbes(const CacheReader& cache, std::vector<Decoded>& decoded, std::vector<DecodedProbe>& views) {
-    const CacheParams& params = cache.params();
-    decoded.assign(cache.probeCount(), {});
-    views.assign(cache.probeCount(), {});
-    for (std::size_t i = 0; i < cache.probeCount(); ++i) {
-        const ProbeView p = cache.probe(i);
-        std::vector<glm::vec2> rg;
-        ASSERT_TRUE(bc::decodeAoCube(p.aoConfidence, int(params.res), p.aoFormat, rg));
-        for (const glm::vec2& v : rg) decoded[i].ao.push_back(v.x), decoded[i].confidence.push_back(v.y);
-        ASSERT_TRUE(depth::decode(p.depth, int(params.depthRes), params.depthFormat, p.maxDistance, decoded[i].distance));
-        views[i] = {p.position, int(params.res), decoded[i].ao, decoded[i].confidence, int(params.depthRes), decoded[i].distance};
-    }
-}
 
 // Three probes in the box room, traced on the CPU at 16² into DIR/c.cubeao (stored as BC4, the traced
 // default).
@@ -91,9 +71,9 @@ TEST_F(GlTest, ProbeProjectionMatchesTheCpuTwin) {
 
     const Scene scene = loadScene("builtin:box-room");
     const CacheReader cache(cacheFile);
-    std::vector<Decoded> decoded;
-    std::vector<DecodedProbe> views;
-    ASSERT_NO_FATAL_FAILURE(decodeProbes(cache, decoded, views));
+    const test::DecodedCache decoded(cache);
+    ASSERT_TRUE(decoded.ok);
+    const std::vector<DecodedProbe>& views = decoded.views;
 
     const CameraPath path = builtinCameraPath("builtin:box-room");
     const CameraView view = CameraView::fromPinhole(PinholeCamera(path, 3, 96, 54), path.nearPlane);
@@ -265,9 +245,9 @@ TEST_F(GlTest, FixedPointAoIsContinuousAsTheCameraWalksFromOneProbeToTheOther) {
     const glm::vec3 probes[] = {kFarProbe, kNearProbe};
     test::bakeCache(scene, probes, s, cacheFile);
     const CacheReader cache(cacheFile);
-    std::vector<Decoded> decoded;
-    std::vector<DecodedProbe> views;
-    ASSERT_NO_FATAL_FAILURE(decodeProbes(cache, decoded, views));
+    const test::DecodedCache decoded(cache);
+    ASSERT_TRUE(decoded.ok);
+    const std::vector<DecodedProbe>& views = decoded.views;
 
     // The CPU twin at P: each probe alone, and both as the pass blends them.
     const ProjectSettings settings = resolveProjectSettings({});

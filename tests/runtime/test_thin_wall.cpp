@@ -9,7 +9,6 @@
 #include <glm/geometric.hpp>
 
 #include "cubeao/bake/bake.h"
-#include "cubeao/cache/bc4.h"
 #include "cubeao/cache/cache_file.h"
 #include "cubeao/cache/depth_cube.h"
 #include "cubeao/reference/embree_scene.h"
@@ -17,6 +16,7 @@
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scenes/builtin_scenes.h"
 #include "bake_test_settings.h"
+#include "decoded_probe.h"
 
 namespace {
 
@@ -41,22 +41,6 @@ std::vector<SurfacePoint> pointsSeen(const EmbreeScene& rt, const CameraPath& pa
     }
     return points;
 }
-
-// One level of a probe, decoded for the CPU twin.
-struct DecodedLevel {
-    std::vector<float> ao, confidence, distance;
-    DecodedProbe view;
-
-    DecodedLevel(const ProbeView& probe, const CacheParams& params, std::uint32_t level) {
-        const CacheParams p = levelParams(params, level);
-        const ProbeView v = levelView(probe, params, level);
-        std::vector<glm::vec2> rg;
-        EXPECT_TRUE(bc::decodeAoCube(v.aoConfidence, int(p.res), v.aoFormat, rg));
-        for (const glm::vec2& t : rg) ao.push_back(t.x), confidence.push_back(t.y);
-        EXPECT_TRUE(depth::decode(v.depth, int(p.depthRes), p.depthFormat, v.maxDistance, distance));
-        view = {v.position, int(p.res), ao, confidence, int(p.depthRes), distance};
-    }
-};
 
 TEST(ThinWall, AProbeServesNothingOfTheRoomBehindATwoCentimetreWallAtAnyLevel) {
     const Scene scene = makeBuiltinScene("builtin:two-rooms");
@@ -85,7 +69,8 @@ TEST(ThinWall, AProbeServesNothingOfTheRoomBehindATwoCentimetreWallAtAnyLevel) {
     settings = resolveProjectSettings(settings);
     for (std::uint32_t level = 0; level < params.levels; ++level) {
         SCOPED_TRACE("level " + std::to_string(level));
-        const DecodedLevel probe(viewOf(record), params, level);
+        const test::DecodedLevel probe(viewOf(record), params, level);
+        ASSERT_TRUE(probe.ok);
         std::size_t leaks = 0;
         for (const SurfacePoint& p : roomB) leaks += probeSees(probe.view, p.position, p.normal, settings);
         EXPECT_EQ(leaks, 0u) << "of " << roomB.size() << " points of room B";
