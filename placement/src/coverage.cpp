@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "common/coverage.h"
+#include "cubeao/cache/depth_cube.h"
+#include "cubeao/core/cube.h"
 #include "cubeao/core/sampling.h"
 #include "cubeao/reference/embree_scene.h"
 #include "cubeao/runtime/projection.h"
@@ -75,6 +78,26 @@ std::vector<std::uint8_t> relevantFromCamera(const EmbreeScene& embree, std::spa
     return relevant;
 }
 
+namespace {
+
+// The distance the bake stores in coarse texel `key` (cube::texelIndex at depthRes) of a probe at
+// `probe`: the nearest hit of its fine texels' centre rays (depth::Filter::Min), 0 when all miss.
+float storedDistance(const EmbreeScene& embree, const glm::vec3& probe, std::size_t key, int res, int depthRes) {
+    const auto face = int(key / (std::size_t(depthRes) * std::size_t(depthRes)));
+    const auto rest = int(key % (std::size_t(depthRes) * std::size_t(depthRes)));
+    const int I = rest % depthRes, J = rest / depthRes;
+    float nearest = 0.0f;
+    for (int j = J * res / depthRes; j < (J + 1) * res / depthRes; ++j)
+        for (int i = I * res / depthRes; i < (I + 1) * res / depthRes; ++i) {
+            const glm::vec3 d = glm::normalize(cube::texelDirection(face, i, j, res));
+            const RayHit h = embree.intersect(probe, d, 0.0f, std::numeric_limits<float>::infinity());
+            if (h.hit && (nearest == 0.0f || h.t < nearest)) nearest = h.t;
+        }
+    return nearest;
+}
+
+}  // namespace
+
 std::vector<SampleView> visibleSamples(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
                                        std::span<const std::uint8_t> relevant, const CoverageCriterion& criterion,
                                        const glm::vec3& probe) {
@@ -96,6 +119,37 @@ std::vector<SampleView> visibleSamples(const EmbreeScene& embree, std::span<cons
     for (std::size_t i = 0; i < area.size(); ++i)
         if (area[i] < INFINITY) seen.push_back({std::uint32_t(i), area[i]});
     return seen;
+}
+
+std::vector<SampleView> servedSamples(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                                      const CoverageCriterion& criterion, const glm::vec3& probe,
+                                      std::span<const SampleView> seen, std::span<const float> occlusion) {
+    const int depthRes = depth::depthResFor(criterion.res);
+    auto tested = [&](std::size_t k) { return occlusion.empty() || occlusion[seen[k].sample] > 0.0f; };
+    std::vector<std::size_t> texelOf(seen.size()), texels;
+    for (std::size_t k = 0; k < seen.size(); ++k)
+        if (tested(k)) texels.push_back(texelOf[k] = cube::texelIndex(samples[seen[k].sample].position - probe, depthRes));
+    std::sort(texels.begin(), texels.end());
+    texels.erase(std::unique(texels.begin(), texels.end()), texels.end());
+    std::vector<float> stored(texels.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, texels.size(), 16), [&](const auto& range) {
+        for (std::size_t k = range.begin(); k != range.end(); ++k)
+            stored[k] = storedDistance(embree, probe, texels[k], criterion.res, depthRes);
+    });
+    std::vector<SampleView> served;
+    for (std::size_t k = 0; k < seen.size(); ++k) {
+        if (!tested(k)) {
+            served.push_back(seen[k]);
+            continue;
+        }
+        const SurfaceSample& s = samples[seen[k].sample];
+        const glm::vec3 d = s.position - probe;
+        const float distance = glm::length(d);
+        const auto t = std::size_t(std::lower_bound(texels.begin(), texels.end(), texelOf[k]) - texels.begin());
+        if (depth::visible(depth::DepthTest{}, stored[t], distance, -glm::dot(s.normal, d) / distance, depthRes))
+            served.push_back(seen[k]);
+    }
+    return served;
 }
 
 bool probeMayCover(const CoverageCriterion& criterion, const glm::vec3& probe, const SurfaceSample& s) {

@@ -141,9 +141,15 @@ std::vector<std::uint32_t> PlacementScene::covered(const glm::vec3& probe) const
     return coveredSamples(*embree_, samples_, relevant_, criterion_, probe);
 }
 
-std::vector<SampleView> PlacementScene::views(const glm::vec3& probe) const {
+std::vector<SampleView> PlacementScene::seen(const glm::vec3& probe) const {
     return visibleSamples(*embree_, samples_, relevant_, criterion_, probe);
 }
+
+std::vector<SampleView> PlacementScene::served(const glm::vec3& probe, std::span<const SampleView> seen) const {
+    return servedSamples(*embree_, samples_, criterion_, probe, seen, occlusion_);
+}
+
+std::vector<SampleView> PlacementScene::views(const glm::vec3& probe) const { return served(probe, seen(probe)); }
 
 const PlacementScene::Votes& PlacementScene::votes() const {
     if (!votes_) {

@@ -168,21 +168,27 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
 
     const std::vector<Site> sites = sitesOf(ps);
     ExpectedError error(ps);
-    // Exact views of the sites evaluated so far (the visibility never changes, only the error state).
-    std::vector<std::optional<std::vector<SampleView>>> exact(sites.size());
-    std::size_t evaluations = 0;
+    // Per site, evaluated once (the visibility never changes, only the error state): the samples it
+    // sees, whose gain bounds the true one from above, and the samples it serves (the depth test too).
+    std::vector<std::optional<std::vector<SampleView>>> seen(sites.size()), exact(sites.size());
+    std::size_t evaluations = 0, bounds = 0;
     double totalWeight = 0.0;
     for (const float w : ps.weights()) totalWeight += w;
+    auto seenBy = [&](std::size_t k) -> const std::vector<SampleView>& {
+        if (!seen[k]) seen[k] = ps.seen(sites[k].position), ++bounds;
+        return *seen[k];
+    };
     auto viewsOf = [&](std::size_t k) -> const std::vector<SampleView>& {
-        if (!exact[k]) exact[k] = ps.views(sites[k].position), ++evaluations;
+        if (!exact[k]) exact[k] = ps.served(sites[k].position, seenBy(k)), ++evaluations;
         return *exact[k];
     };
-    // The gain of site k: exact where evaluated, else its votes' estimate (each voter scaled by the
-    // inverse of the chance its rays found the voxel).
+    // The gain of site k: exact where evaluated, else its bound, else its votes' estimate (each voter
+    // scaled by the inverse of the chance its rays found the voxel).
     auto gainOf = [&](std::size_t k) {
         if (exact[k]) return error.gain(*exact[k]);
+        if (seen[k]) return error.gain(*seen[k]);
         const std::int64_t c = sites[k].voxel;
-        if (c < 0) return error.gain(viewsOf(k));
+        if (c < 0) return error.gain(seenBy(k));
         double g = 0.0;
         for (std::uint64_t v = votes.offsets[std::size_t(c)]; v < votes.offsets[std::size_t(c) + 1]; ++v) {
             const std::uint32_t s = votes.voters[v];
@@ -194,7 +200,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
 
     // Lazy greedy on expected error removed (gains only fall as probes join: the error of a sample is
     // the least over its probes). An entry computed in an earlier round is refreshed before it is
-    // trusted; an estimate is replaced by the exact gain before a site is taken.
+    // trusted; an estimate is replaced by the bound, the bound by the exact gain, before a site is taken.
     struct Entry {
         double gain;
         std::int64_t negativeSite;  // ties go to the lowest site
@@ -216,19 +222,32 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     const std::size_t budget = settings.budget > 0 ? std::size_t(settings.budget) : sites.size();
     result.stop = "no_gain";
     std::size_t round = 0;
+    Entry best{0.0, 0, 0};  // the largest exact gain of this round
     while (chosen.size() < budget) {
         if (settings.budget == 0 && settings.targetError > 0.0f && error.mae() <= settings.targetError) {
             result.stop = "target_error";
             break;
         }
         if (queue.empty()) break;
-        const Entry top = queue.top();
-        queue.pop();
+        Entry top = queue.top();
+        // Neighbouring voxels gain nearly alike and a bound exceeds its exact gain by the ~8 % of
+        // samples the depth test removes, so bounds crowd the top: the best exact gain of this round is
+        // taken once no bound above it exceeds it by more than kSlack, far inside the model's own miss
+        // (~20 %). FZK-Haus's walk at 6 probes: 2,069 depth tests and 86 s without a slack, 1,649 with
+        // 2 %, 276 and 13 s with 10 % (predicted MAE 0.00587, 0.00587, 0.00579: greedy is a heuristic).
+        constexpr double kSlack = 0.10;
+        if (best.gain > 0.0 && best.round == round && !taken[std::size_t(-best.negativeSite)] &&
+            best.gain >= (1.0 - kSlack) * top.gain)
+            top = best;
+        else
+            queue.pop();
         const std::size_t k = std::size_t(-top.negativeSite);
         if (taken[k]) continue;
         if (top.round != round || !exact[k]) {
-            if (top.round == round) viewsOf(k);
-            queue.push({gainOf(k), top.negativeSite, round});
+            if (top.round == round) seen[k] ? viewsOf(k) : seenBy(k);
+            const Entry refreshed{gainOf(k), top.negativeSite, round};
+            if (exact[k] && refreshed.gain > best.gain) best = refreshed;
+            queue.push(refreshed);
             continue;
         }
         if (!(top.gain > 0.0)) break;
@@ -240,6 +259,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
         taken[k] = 1;
         chosen.push_back({k, sites[k].position, *exact[k]});
         ++round;
+        best = {0.0, 0, round};
         if (progress) progress->advance();
     }
     if (chosen.size() == budget && settings.budget > 0) result.stop = "budget";
@@ -310,6 +330,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
                       {"votes", double(votes.voters.size())},
                       {"vote_rays", double(votes.rays)},
                       {"exact_evaluations", double(evaluations)},
+                      {"bound_evaluations", double(bounds)},
                       {"moves", double(moves)},
                       {"path_set_taken", pathWon ? 1.0 : 0.0}};
     return result;

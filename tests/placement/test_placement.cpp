@@ -23,6 +23,7 @@
 #include "cubeao/placement/place.h"
 #include "cubeao/placement/placement.h"
 #include "cubeao/placement/walk_scatter.h"
+#include "cubeao/reference/embree_scene.h"
 #include "cubeao/scene/builtin.h"
 #include "cubeao/scene/import.h"
 #include "cubeao/scene/scene.h"
@@ -547,6 +548,35 @@ TEST(PlacementError, ModelGrowsWithTheTexelAndOcclusionAndStopsAtTheFallback) {
     EXPECT_LT(m.expected(0.01f * 0.01f, l, 0.5f), m.expected(0.01f * 0.01f, 0.5f * l, 0.5f));
 }
 
+// A probe serves what the projection's depth test accepts, not all it sees: the distance cube keeps
+// the nearest of each coarse texel's fine texels, so a far wall seen just past the edge of a near plate
+// in the same coarse texel is hidden at run time, and placement must not count it as served.
+TEST(PlacementError, ServedIsWhatTheDepthTestAcceptsBesideASilhouette) {
+    MeshBuilder b;
+    rect(b, {-20, -20, 10}, {20, 20, 10}, {0, 0, -1});  // the far wall, facing the probe at the origin
+    rect(b, {-5, -5, 2}, {0.1f, 5, 2}, {0, 0, -1});     // a near plate whose edge is at tan 0.05
+    const Scene scene = finish(b, "silhouette");
+    const EmbreeScene embree(scene);
+    // 64² faces: the distance cube is 16², a coarse texel spans tan 0.125 and holds 4 × 4 fine texels
+    // of tan 1/32; the plate's edge (tan 0.05) cuts the coarse texel [0, 0.125) between them.
+    const CoverageCriterion criterion{64, 100.0f, 0.05f};
+    const glm::vec3 probe(0.0f);
+    const glm::vec3 toProbe(0, 0, -1);
+    const std::vector<SurfaceSample> samples = {
+        {{0.8f, 0.3f, 10.0f}, toProbe, 1.0f, 0},   // tan 0.08: past the edge, in its coarse texel
+        {{2.0f, 0.3f, 10.0f}, toProbe, 1.0f, 0},   // tan 0.2: a coarse texel of the far wall alone
+        {{-2.0f, 0.3f, 10.0f}, toProbe, 1.0f, 0},  // behind the plate: not even seen
+        {{-2.0f, 0.3f, 2.0f}, toProbe, 1.0f, 1},   // on the plate: seen and served
+    };
+    const std::vector<std::uint8_t> relevant(samples.size(), 1);
+    const std::vector<SampleView> seen = visibleSamples(embree, samples, relevant, criterion, probe);
+    std::vector<std::uint32_t> seenIds, servedIds;
+    for (const SampleView& v : seen) seenIds.push_back(v.sample);
+    EXPECT_EQ(seenIds, (std::vector<std::uint32_t>{0, 1, 3}));
+    for (const SampleView& v : servedSamples(embree, samples, criterion, probe, seen)) servedIds.push_back(v.sample);
+    EXPECT_EQ(servedIds, (std::vector<std::uint32_t>{1, 3})) << "the wall beside the plate's silhouette is hidden";
+}
+
 TEST(PlacementError, GainIsWhatThePredictedErrorFalls) {
     const Scene scene = twoRooms();
     const CameraPath walk = twoRoomsWalk();
@@ -745,7 +775,6 @@ TEST(PlacementError, AWalkWhoseEyesAreAllInsideWallsIsRefused) {
 
 #include "cubeao/core/error.h"
 #include "cubeao/placement/gpu_coverage.h"
-#include "cubeao/reference/embree_scene.h"
 #include "gl_fixture.h"
 
 namespace cubeao::placement {

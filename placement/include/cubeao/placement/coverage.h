@@ -60,17 +60,34 @@ std::vector<float> imageShareFromCamera(const EmbreeScene& embree, std::span<con
 std::vector<std::uint8_t> relevantFromCamera(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
                                              const CameraPath& path, std::size_t maxFrames = 240);
 
-// A relevant sample a probe sees: its side faces the probe, nothing lies in between (Embree), and the
-// projection's texel area there (CoverageCriterion::footprint). The error model and every coverage
-// figure are derived from these.
+// A relevant sample a probe sees or serves, and the projection's texel area there
+// (CoverageCriterion::footprint). The error model is derived from these.
 struct SampleView {
     std::uint32_t sample;
     float area;
 };
-// Every relevant sample (relevant[i] != 0) that a probe at `probe` sees, ascending by sample.
+// Every relevant sample (relevant[i] != 0) that a probe at `probe` sees (its side faces the probe,
+// nothing lies in between: one Embree ray each), ascending by sample.
 std::vector<SampleView> visibleSamples(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
                                        std::span<const std::uint8_t> relevant, const CoverageCriterion& criterion,
                                        const glm::vec3& probe);
+// Those of `seen` (visibleSamples of the same probe) that the probe *serves*: what the projection does,
+// not only what it sees. The run-time tests each point against the probe's distance cube at
+// depth::depthResFor(res), whose texel keeps the nearest of its fine texels (the bake's min filter,
+// src/cubeao/cache/depth_cube.h), so a point beside a silhouette, past a nearer edge in the same coarse
+// texel, fails and takes another probe or the fallback. The cube is traced here where needed (one
+// Embree ray per fine texel of each coarse texel a tested sample falls in: 16 at the default res/4),
+// and the test is the run-time's depth::visible with the default biases. With `occlusion` (per sample,
+// 1 − AO), samples at 0 pass untested: whatever serves them, their AO is 1 and the expected error 0,
+// so the error model is unchanged and only the "served" figure counts them by the ray alone.
+// Measured (docs/BENCHMARKS.md "Placement by predicted error", 2026-12-07): 8 % of the probe–sample
+// pairs of 54 candidates along FZK-Haus's walk fail it; with it the prediction correlates with 205
+// measured 6-probe sets at 0.894 / 0.966 (FZK-Haus / Sibenik) instead of 0.874 / 0.952, and among the
+// FZK-Haus sets that serve nearly everything at 0.75 instead of 0.60. Tracing only the four corner
+// fine texels (a quarter of the rays) moved FZK-Haus's 6-probe walk from 0.891× path's MAE to 0.901×.
+std::vector<SampleView> servedSamples(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
+                                      const CoverageCriterion& criterion, const glm::vec3& probe,
+                                      std::span<const SampleView> seen, std::span<const float> occlusion = {});
 
 // Whether a probe at `probe` covers sample s: in range, s faces it, the texel is small enough, and an
 // Embree ray finds nothing in between. The one test behind every coverage figure.
