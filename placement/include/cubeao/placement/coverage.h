@@ -80,11 +80,12 @@ std::vector<SampleView> visibleSamples(const EmbreeScene& embree, std::span<cons
 // and the test is the run-time's depth::visible with the default biases. With `occlusion` (per sample,
 // 1 − AO), samples at 0 pass untested: whatever serves them, their AO is 1 and the expected error 0,
 // so the error model is unchanged and only the "served" figure counts them by the ray alone.
-// Measured (docs/BENCHMARKS.md "Placement by predicted error", 2026-12-07): 8 % of the probe–sample
-// pairs of 54 candidates along FZK-Haus's walk fail it; with it the prediction correlates with 205
-// measured 6-probe sets at 0.894 / 0.966 (FZK-Haus / Sibenik) instead of 0.874 / 0.952, and among the
-// FZK-Haus sets that serve nearly everything at 0.75 instead of 0.60. Tracing only the four corner
-// fine texels (a quarter of the rays) moved FZK-Haus's 6-probe walk from 0.891× path's MAE to 0.901×.
+// Measured (docs/BENCHMARKS.md "Placement by predicted error", 2026-12-07): of the probe–sample pairs
+// an Embree ray finds, 6.8 % fail it for 54 candidates along FZK-Haus's walk, 10.0 % for 52 along
+// Sibenik's; with it the prediction correlates with 205 measured 6-probe sets at 0.894 / 0.966
+// (FZK-Haus / Sibenik) instead of 0.874 / 0.952, and among the FZK-Haus sets that serve nearly
+// everything at 0.75 instead of 0.60. Tracing only the four corner fine texels (a quarter of the
+// rays) moved FZK-Haus's 6-probe walk from 0.891× path's MAE to 0.901×.
 std::vector<SampleView> servedSamples(const EmbreeScene& embree, std::span<const SurfaceSample> samples,
                                       const CoverageCriterion& criterion, const glm::vec3& probe,
                                       std::span<const SampleView> seen, std::span<const float> occlusion = {});
