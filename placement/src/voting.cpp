@@ -17,6 +17,7 @@
 #include "cubeao/core/sampling.h"
 #include "cubeao/core/stopwatch.h"
 #include "cubeao/reference/embree_scene.h"
+#include "site_greedy.h"
 #include "votes.h"
 
 namespace cubeao::placement {
@@ -124,15 +125,6 @@ PlacementScene::Votes castVotes(const EmbreeScene& embree, const FreeSpace& spac
 
 namespace {
 
-// A place a probe may go: a free voxel's centre (`voxel` its candidate number, whose votes estimate
-// it) or one of the walk's eyes (voxel −1: evaluated exactly from the start).
-struct Site {
-    glm::vec3 position;
-    std::int64_t voxel;
-};
-
-// The sites of the greedy: every free voxel that got a vote, then the walk's eyes where they keep a
-// tenth of the clearance (the bake needs a probe outside geometry; the walk says its eyes are free).
 // `count` of `points` evenly spread along their order, as probesAlongPath spreads a walk's eyes.
 std::vector<glm::vec3> evenlySpread(const std::vector<glm::vec3>& points, std::size_t count) {
     std::vector<glm::vec3> picked;
@@ -141,17 +133,16 @@ std::vector<glm::vec3> evenlySpread(const std::vector<glm::vec3>& points, std::s
     return picked;
 }
 
+// The sites of the greedy: every free voxel that got a vote, then the walk's eyes where they keep a
+// tenth of the clearance (the bake needs a probe outside geometry; the walk says its eyes are free).
 std::vector<Site> sitesOf(const PlacementScene& ps) {
     const PlacementScene::Votes& votes = ps.votes();
     const FreeSpace& space = ps.freeSpace();
     std::vector<Site> sites;
     for (std::size_t c = 0; c < space.candidates().size(); ++c)
         if (votes.offsets[c + 1] > votes.offsets[c]) sites.push_back({space.candidatePosition(c), std::int64_t(c)});
-    std::set<std::tuple<float, float, float>> seen;
-    for (const Site& s : sites) seen.insert({s.position.x, s.position.y, s.position.z});
     for (const glm::vec3& eye : ps.eyes())
-        if (space.distanceToSurface(eye) >= 0.1f * space.clearance() && seen.insert({eye.x, eye.y, eye.z}).second)
-            sites.push_back({eye, -1});
+        if (space.distanceToSurface(eye) >= 0.1f * space.clearance()) sites.push_back({eye, -1});
     return sites;
 }
 
@@ -166,100 +157,33 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     result.timings = ps.timings();
     watch.restart();
 
-    const std::vector<Site> sites = sitesOf(ps);
+    // Lazy greedy on expected error removed (site_greedy.h).
+    SiteGreedy greedy(ps, sitesOf(ps));
+    const std::vector<Site>& sites = greedy.sites();
     ExpectedError error(ps);
-    // Per site, evaluated once (the visibility never changes, only the error state): the samples it
-    // sees, whose gain bounds the true one from above, and the samples it serves (the depth test too).
-    std::vector<std::optional<std::vector<SampleView>>> seen(sites.size()), exact(sites.size());
-    std::size_t evaluations = 0, bounds = 0;
-    double totalWeight = 0.0;
-    for (const float w : ps.weights()) totalWeight += w;
-    auto seenBy = [&](std::size_t k) -> const std::vector<SampleView>& {
-        if (!seen[k]) seen[k] = ps.seen(sites[k].position), ++bounds;
-        return *seen[k];
-    };
-    auto viewsOf = [&](std::size_t k) -> const std::vector<SampleView>& {
-        if (!exact[k]) exact[k] = ps.served(sites[k].position, seenBy(k)), ++evaluations;
-        return *exact[k];
-    };
-    // The gain of site k: exact where evaluated, else its bound, else its votes' estimate (each voter
-    // scaled by the inverse of the chance its rays found the voxel).
-    auto gainOf = [&](std::size_t k) {
-        if (exact[k]) return error.gain(*exact[k]);
-        if (seen[k]) return error.gain(*seen[k]);
-        const std::int64_t c = sites[k].voxel;
-        if (c < 0) return error.gain(seenBy(k));
-        double g = 0.0;
-        for (std::uint64_t v = votes.offsets[std::size_t(c)]; v < votes.offsets[std::size_t(c) + 1]; ++v) {
-            const std::uint32_t s = votes.voters[v];
-            const float e = ps.expectedError(s, votes.area[v]);
-            if (e < error.current(s)) g += double(votes.scale[v]) * double(ps.weights()[s]) * double(error.current(s) - e);
-        }
-        return totalWeight > 0.0 ? g / totalWeight : 0.0;
-    };
-
-    // Lazy greedy on expected error removed (gains only fall as probes join: the error of a sample is
-    // the least over its probes). An entry computed in an earlier round is refreshed before it is
-    // trusted; an estimate is replaced by the bound, the bound by the exact gain, before a site is taken.
-    struct Entry {
-        double gain;
-        std::int64_t negativeSite;  // ties go to the lowest site
-        std::size_t round;
-        bool operator<(const Entry& o) const {
-            return gain != o.gain ? gain < o.gain : negativeSite < o.negativeSite;
-        }
-    };
-    std::priority_queue<Entry> queue;
-    for (std::size_t k = 0; k < sites.size(); ++k) queue.push({gainOf(k), -std::int64_t(k), 0});
-
+    greedy.rank(error);
     struct Chosen {
         std::size_t site;
         glm::vec3 position;
         std::vector<SampleView> views;
     };
     std::vector<Chosen> chosen;
-    std::vector<std::uint8_t> taken(sites.size(), 0);
     const std::size_t budget = settings.budget > 0 ? std::size_t(settings.budget) : sites.size();
     result.stop = "no_gain";
-    std::size_t round = 0;
-    Entry best{0.0, 0, 0};  // the largest exact gain of this round
     while (chosen.size() < budget) {
         if (settings.budget == 0 && settings.targetError > 0.0f && error.mae() <= settings.targetError) {
             result.stop = "target_error";
             break;
         }
-        if (queue.empty()) break;
-        Entry top = queue.top();
-        // Neighbouring voxels gain nearly alike and a bound exceeds its exact gain by the ~8 % of
-        // samples the depth test removes, so bounds crowd the top: the best exact gain of this round is
-        // taken once no bound above it exceeds it by more than kSlack, far inside the model's own miss
-        // (~20 %). FZK-Haus's walk at 6 probes: 2,069 depth tests and 86 s without a slack, 1,649 with
-        // 2 %, 276 and 13 s with 10 % (predicted MAE 0.00587, 0.00587, 0.00579: greedy is a heuristic).
-        constexpr double kSlack = 0.10;
-        if (best.gain > 0.0 && best.round == round && !taken[std::size_t(-best.negativeSite)] &&
-            best.gain >= (1.0 - kSlack) * top.gain)
-            top = best;
-        else
-            queue.pop();
-        const std::size_t k = std::size_t(-top.negativeSite);
-        if (taken[k]) continue;
-        if (top.round != round || !exact[k]) {
-            if (top.round == round) seen[k] ? viewsOf(k) : seenBy(k);
-            const Entry refreshed{gainOf(k), top.negativeSite, round};
-            if (exact[k] && refreshed.gain > best.gain) best = refreshed;
-            queue.push(refreshed);
-            continue;
-        }
-        if (!(top.gain > 0.0)) break;
-        if (settings.budget == 0 && settings.targetError == 0.0f && top.gain < kAutomaticStop * error.mae()) {
+        const std::optional<SiteGreedy::Pick> pick = greedy.next(error);
+        if (!pick) break;
+        if (settings.budget == 0 && settings.targetError == 0.0f && pick->gain < kAutomaticStop * error.mae()) {
             result.stop = "automatic";
             break;
         }
-        error.add(*exact[k]);
-        taken[k] = 1;
-        chosen.push_back({k, sites[k].position, *exact[k]});
-        ++round;
-        best = {0.0, 0, round};
+        error.add(greedy.served(pick->site));
+        greedy.take(pick->site);
+        chosen.push_back({pick->site, sites[pick->site].position, greedy.served(pick->site)});
         if (progress) progress->advance();
     }
     if (chosen.size() == budget && settings.budget > 0) result.stop = "budget";
@@ -269,7 +193,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     // most expected error given all the other probes.
     const FreeSpace& space = ps.freeSpace();
     const VoxelGrid& grid = space.grid();
-    std::size_t moves = 0;
+    std::size_t moves = 0, evaluations = greedy.exactEvaluations();
     std::set<std::tuple<float, float, float>> occupied;
     for (const Chosen& c : chosen) occupied.insert({c.position.x, c.position.y, c.position.z});
     for (std::size_t j = 0; j < chosen.size(); ++j) {
@@ -330,7 +254,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
                       {"votes", double(votes.voters.size())},
                       {"vote_rays", double(votes.rays)},
                       {"exact_evaluations", double(evaluations)},
-                      {"bound_evaluations", double(bounds)},
+                      {"bound_evaluations", double(greedy.boundEvaluations())},
                       {"moves", double(moves)},
                       {"path_set_taken", pathWon ? 1.0 : 0.0}};
     return result;

@@ -28,6 +28,7 @@
 #include "cubeao/scene/import.h"
 #include "cubeao/scene/scene.h"
 #include "cubeao/scenes/mesh_builder.h"
+#include "site_greedy.h"
 
 namespace cubeao::placement {
 namespace {
@@ -712,6 +713,63 @@ TEST(PlacementError, LiveErrorFeedbackComesNearVotingAtEqualCount) {
     const Placement mirrored = placeFeedback(rps, walk, 1);
     ASSERT_EQ(mirrored.probes.size(), live.probes.size());
     for (std::size_t i = 0; i < live.probes.size(); ++i) EXPECT_EQ(mirrored.probes[i].position, live.probes[i].position);
+}
+
+// The lazy greedy's pick against every site priced exactly: within kSlack of the best exact gain in
+// every round, before and after weights that raise gains (a second walk's frames) and rank() again.
+// The lazy order must not change what the objective says is best by more than the slack.
+TEST(PlacementError, LazyGreedyPicksWithinTheSlackOfTheBestExactGain) {
+    const Scene scene = twoRooms();
+    const CameraPath walk = twoRoomsWalk();
+    const PlacementScene ps(scene, errorSettings(scene), &walk);
+    std::vector<Site> sites;
+    for (std::size_t c = 0; c < ps.freeSpace().candidates().size(); ++c)
+        sites.push_back({ps.freeSpace().candidatePosition(c), ps.votes().offsets[c + 1] > ps.votes().offsets[c]
+                                                                   ? std::int64_t(c) : -1});
+    for (const glm::vec3& eye : ps.eyes()) sites.push_back({eye, -1});
+    SiteGreedy lazy(ps, sites);
+    SiteGreedy all(ps, sites);  // every site priced exactly, by brute force
+    ASSERT_GT(lazy.sites().size(), 20u);
+    // Half the walk's weight first (a live walk so far), then all of it.
+    ExpectedError error(ps, /*fromWalk=*/false);
+    std::vector<float> half = ps.weights();
+    for (float& w : half) w *= 0.5f;
+    error.addWeights(half);
+    std::size_t picks = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        lazy.rank(error);
+        for (int round = 0; round < 4; ++round) {
+            const std::optional<SiteGreedy::Pick> pick = lazy.next(error);
+            ASSERT_TRUE(pick.has_value());
+            double best = 0.0;
+            std::size_t bestSite = 0;
+            for (std::size_t k = 0; k < all.sites().size(); ++k) {
+                const double g = error.gain(all.served(k));
+                if (g > best) best = g, bestSite = k;
+            }
+            EXPECT_NEAR(pick->gain, error.gain(all.served(pick->site)), 1e-12) << "a pick's gain is exact";
+            EXPECT_GE(pick->gain, (1.0 - SiteGreedy::kSlack) * best)
+                << "pass " << pass << ", round " << round << ": site " << pick->site << " against " << bestSite;
+            // The bounded-cost pick: its gain exact, and, pricing every site, the best there is.
+            const std::optional<SiteGreedy::Pick> few = all.bestOfFew(error, 16, 3);
+            ASSERT_TRUE(few.has_value());
+            EXPECT_NEAR(few->gain, error.gain(all.served(few->site)), 1e-12);
+            const std::optional<SiteGreedy::Pick> every = all.bestOfFew(error, all.sites().size(), all.sites().size());
+            ASSERT_TRUE(every.has_value());
+            EXPECT_NEAR(every->gain, best, 1e-12 * best);
+            const std::optional<SiteGreedy::Pick> again = lazy.next(error);
+            ASSERT_TRUE(again.has_value());
+            EXPECT_EQ(again->site, pick->site) << "asking again without take() gives the same site";
+            error.add(lazy.served(pick->site));
+            lazy.take(pick->site);
+            all.take(pick->site);
+            ++picks;
+        }
+        error.addWeights(half);
+    }
+    std::printf("lazy greedy: %zu picks over %zu sites, %zu bounds and %zu exact gains (brute force %zu)\n", picks,
+                lazy.sites().size(), lazy.boundEvaluations(), lazy.exactEvaluations(), all.exactEvaluations());
+    EXPECT_LT(lazy.exactEvaluations(), all.exactEvaluations() / 2) << "lazy: most sites are never priced exactly";
 }
 
 // Live placement, on either objective, says why a frame that needs a probe got none (issue 31: the

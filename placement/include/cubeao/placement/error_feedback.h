@@ -3,14 +3,16 @@
 // walk. Each frame the viewer counts adds its image shares to the samples' weights; then, while the
 // best site would remove at least kAutomaticStop of the walk-so-far's predicted MAE (or, with
 // --target-error, while the MAE is above it), the frame places that probe. Sites are the free voxels
-// the samples voted for (their gains estimated from the votes, the best few evaluated exactly) and the
-// camera's own eye. The viewer runs it frame by frame (live_placement.h); placeFeedback runs it over a
-// recorded walk, so the live objective's probes can be measured without a window.
+// the samples voted for and the eyes of the frames so far, priced as offline voting prices them
+// (site_greedy.h: votes, then the ray-only bound, then the exact gain with the depth test) but at a
+// bounded cost per probe, since it runs inside a frame (SiteGreedy::bestOfFew). The
+// viewer runs it frame by frame (live_placement.h); placeFeedback runs it over a recorded walk, so the
+// live objective's probes can be measured without a window.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -24,10 +26,13 @@ class Progress;
 
 namespace cubeao::placement {
 
+class SiteGreedy;
+
 class ErrorFeedback {
 public:
     // `ps` must outlive this object; its settings give the budget and the target error.
     explicit ErrorFeedback(const PlacementScene& ps);
+    ~ErrorFeedback();
 
     struct FrameResult {
         double before = 0.0, after = 0.0;  // predicted MAE of the walk so far (this frame included)
@@ -45,18 +50,15 @@ public:
     void addProbes(std::span<const glm::vec3> probes);
     double predictedMae() const { return error_.mae(); }
     std::size_t frames() const { return frames_; }
-    std::size_t exactEvaluations() const { return evaluations_; }
+    std::size_t exactEvaluations() const;  // sites priced with the depth test
+    std::size_t boundEvaluations() const;  // sites priced by the samples their rays reach
 
 private:
-    const std::vector<SampleView>& viewsOf(std::uint32_t candidate);
-
     const PlacementScene& ps_;
     ExpectedError error_;
     std::vector<glm::vec3> probes_;
-    std::vector<std::uint8_t> taken_;  // per candidate voxel
-    // Exact views of the candidate voxels evaluated so far (the visibility never changes).
-    std::unordered_map<std::uint32_t, std::vector<SampleView>> views_;
-    std::size_t frames_ = 0, evaluations_ = 0;
+    std::unique_ptr<SiteGreedy> greedy_;  // the voted voxels and the eyes seen so far
+    std::size_t frames_ = 0;
 };
 
 // ErrorFeedback over every `everyFrames`-th frame of `path` (the viewer counts every 4th), reported
