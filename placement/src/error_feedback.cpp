@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <limits>
 
+#include <glm/common.hpp>
+
 #include "cubeao/core/progress.h"
 #include "cubeao/core/stopwatch.h"
 #include "site_greedy.h"
@@ -59,8 +61,13 @@ ErrorFeedback::FrameResult ErrorFeedback::addFrame(const PinholeCamera& camera, 
         settings.budget > 0 ? std::size_t(settings.budget) : std::numeric_limits<std::size_t>::max();
     const FreeSpace& space = ps_.freeSpace();
     // The camera's own eye is a site where it keeps a tenth of the clearance from geometry, as
-    // placeVoting's eye sites.
-    if (space.distanceToSurface(camera.eye) >= 0.1f * space.clearance()) greedy_->addSite({camera.eye, -1});
+    // placeVoting's eye sites; one per voxel the walk passes through, since every site keeps its views
+    // and a long walk in the viewer would otherwise add one each counted frame without bound.
+    const VoxelGrid& grid = space.grid();
+    const glm::ivec3 cell(glm::floor((camera.eye - grid.origin) / grid.voxel));
+    if (space.distanceToSurface(camera.eye) >= 0.1f * space.clearance() &&
+        (!grid.contains(cell) || eyeCells_.insert(grid.index(cell)).second))
+        greedy_->addSite({camera.eye, -1});
     // Worth a probe: removes at least kAutomaticStop of the MAE so far, or anything while it is above
     // --target-error.
     auto enough = [&](double gain) {

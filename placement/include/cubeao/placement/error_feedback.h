@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <unordered_set>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -58,6 +59,7 @@ private:
     ExpectedError error_;
     std::vector<glm::vec3> probes_;
     std::unique_ptr<SiteGreedy> greedy_;  // the voted voxels and the eyes seen so far
+    std::unordered_set<std::size_t> eyeCells_;  // voxels an eye site stands in
     std::size_t frames_ = 0;
 };
 
