@@ -224,6 +224,28 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     }
     result.timings.emplace_back("move", watch.restart());
 
+    // The automatic stop asks each probe to remove at least kAutomaticStop of the error. The greedy
+    // checks that as a probe joins, but later probes and the moves take over part of what an earlier
+    // one serves: drop the probe that removes least while it removes under that share of the error
+    // without it, one at a time (the others' shares grow as one goes). Sibenik's walk: the 5th probe
+    // removed 0.6 % once the 13 had moved; the 12 left predict less than the greedy's own 12.
+    std::size_t pruned = 0;
+    while (settings.budget == 0 && settings.targetError == 0.0f && chosen.size() > 1) {
+        std::size_t weakest = 0;
+        double weakestShare = 1.0;
+        for (std::size_t j = 0; j < chosen.size(); ++j) {
+            ExpectedError others(ps);
+            for (std::size_t i = 0; i < chosen.size(); ++i)
+                if (i != j) others.add(chosen[i].views);
+            const double share = others.mae() > 0.0 ? others.gain(chosen[j].views) / others.mae() : 0.0;
+            if (share < weakestShare) weakest = j, weakestShare = share;
+        }
+        if (weakestShare >= kAutomaticStop) break;
+        chosen.erase(chosen.begin() + std::ptrdiff_t(weakest));
+        ++pruned;
+    }
+    if (pruned > 0) result.timings.emplace_back("prune", watch.restart());
+
     std::vector<glm::vec3> positions;
     for (const Chosen& c : chosen) positions.push_back(c.position);
     // The walk's own eyes, evenly spread, at the same count (the `path` method): the greedy is a
@@ -256,6 +278,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
                       {"exact_evaluations", double(evaluations)},
                       {"bound_evaluations", double(greedy.boundEvaluations())},
                       {"moves", double(moves)},
+                      {"pruned", double(pruned)},
                       {"path_set_taken", pathWon ? 1.0 : 0.0}};
     return result;
 }

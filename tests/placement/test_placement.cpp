@@ -718,6 +718,35 @@ TEST(PlacementError, LiveErrorFeedbackComesNearVotingAtEqualCount) {
 // The lazy greedy's pick against every site priced exactly: within kSlack of the best exact gain in
 // every round, before and after weights that raise gains (a second walk's frames) and rank() again.
 // The lazy order must not change what the objective says is best by more than the slack.
+// The automatic stop (no --budget, no --target-error) is a promise about the set, not only about the
+// order the greedy found it in: given all the others, each probe removes at least kAutomaticStop of the
+// predicted error, so no probe is paid for (bytes, bake time) that the picture does not need.
+TEST(PlacementError, AutomaticStopKeepsOnlyProbesThatRemoveTheirShare) {
+    for (const bool alcove : {false, true}) {
+        const Scene scene = alcove ? alcoveRoom() : twoRooms();
+        const CameraPath walk = alcove ? alcoveWalk() : twoRoomsWalk();
+        const PlacementScene ps(scene, errorSettings(scene), &walk);
+        const Placement voting = placeVoting(ps);
+        ASSERT_EQ(voting.stop, "automatic") << alcove;
+        ASSERT_GT(voting.probes.size(), 1u) << alcove;
+        std::vector<std::vector<SampleView>> views;
+        for (const PlacedProbe& p : voting.probes) views.push_back(ps.views(p.position));
+        double pruned = -1.0;
+        for (const auto& [name, value] : voting.figures)
+            if (name == "pruned") pruned = value;
+        std::printf("%s: %zu probes, %g pruned, predicted %.5f\n", alcove ? "alcove" : "two rooms",
+                    voting.probes.size(), pruned, voting.predictedMae);
+        EXPECT_GE(pruned, 0.0) << "the summary says how many probes the stop dropped";
+        for (std::size_t j = 0; j < views.size(); ++j) {
+            ExpectedError others(ps);
+            for (std::size_t i = 0; i < views.size(); ++i)
+                if (i != j) others.add(views[i]);
+            EXPECT_GE(others.gain(views[j]), kAutomaticStop * others.mae())
+                << (alcove ? "alcove" : "two rooms") << ": probe " << j << " of " << views.size();
+        }
+    }
+}
+
 TEST(PlacementError, LazyGreedyPicksWithinTheSlackOfTheBestExactGain) {
     const Scene scene = twoRooms();
     const CameraPath walk = twoRoomsWalk();

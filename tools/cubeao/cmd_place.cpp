@@ -191,7 +191,7 @@ void addPlace(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--target-error", s.targetError,
                     "voting: stop once the predicted walk MAE is at most this (0: stop where the next probe "
-                    "removes under 1 % of it)")
+                    "removes under 1 % of it, keeping only probes that each remove 1 % given the others)")
         ->capture_default_str();
     cmd->add_option("--voxel", s.voxel, "Candidate voxel edge (0: ~150k voxels in the box)")->capture_default_str();
     cmd->add_option("--clearance", s.clearance, "Least distance from a probe to geometry (0: half a voxel)")

@@ -203,7 +203,8 @@ ErrorTerms errorTerms(const PlacementScene& ps, const std::vector<glm::vec3>& pr
 // probe would lower the predicted MAE by less than this share of it. At 2 % Sibenik's walk stopped at
 // 6 probes (measured MAE 0.91× that of 12 probes along the walk), at 1.5 % at 8 (0.79×, but 0.0102 on
 // the frames 0:12 where 0.010 is asked; FZK-Haus 0.903× at 9); probes 9–13 there remove 0.9–1.6 %
-// each (docs/BENCHMARKS.md "Placement by predicted error").
+// each (docs/BENCHMARKS.md "Placement by predicted error"). Voting holds every probe of its final set to
+// it: after the local moves, a probe that removes less given the others is dropped (placeVoting).
 inline constexpr double kAutomaticStop = 0.01;
 
 Placement placeVoting(const PlacementScene& ps, Progress* progress = nullptr);
