@@ -196,10 +196,15 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     std::size_t moves = 0, evaluations = greedy.exactEvaluations();
     std::set<std::tuple<float, float, float>> occupied;
     for (const Chosen& c : chosen) occupied.insert({c.position.x, c.position.y, c.position.z});
-    for (std::size_t j = 0; j < chosen.size(); ++j) {
+    // The predicted error of every chosen probe but the j-th.
+    auto allBut = [&](std::size_t j) {
         ExpectedError others(ps);
         for (std::size_t i = 0; i < chosen.size(); ++i)
             if (i != j) others.add(chosen[i].views);
+        return others;
+    };
+    for (std::size_t j = 0; j < chosen.size(); ++j) {
+        const ExpectedError others = allBut(j);
         double best = others.gain(chosen[j].views);
         const glm::ivec3 cell =
             glm::clamp(glm::ivec3(glm::floor((chosen[j].position - grid.origin) / grid.voxel)), glm::ivec3(0), grid.dims - 1);
@@ -234,9 +239,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
         std::size_t weakest = 0;
         double weakestShare = 1.0;
         for (std::size_t j = 0; j < chosen.size(); ++j) {
-            ExpectedError others(ps);
-            for (std::size_t i = 0; i < chosen.size(); ++i)
-                if (i != j) others.add(chosen[i].views);
+            const ExpectedError others = allBut(j);
             const double share = others.mae() > 0.0 ? others.gain(chosen[j].views) / others.mae() : 0.0;
             if (share < weakestShare) weakest = j, weakestShare = share;
         }
