@@ -184,6 +184,18 @@ TEST(Cli, PlaceAlongThePathWritesAProbeSetBakeReads) {
     EXPECT_LT(lastLine(live.out)["predicted_mae"].get<double>(), path["predicted_mae"].get<double>())
         << "placing until a probe removes under 1 % beats 3 eyes of the walk";
     EXPECT_GT(lastLine(live.out)["figures"]["frames_counted"].get<int>(), 0);
+    // The automatic stop holds for every probe of the set: a probe that removes under 1 % given the
+    // others is dropped after the moves, and the summary says how many (the built-in walk drops one).
+    const CliRun automatic = run("place builtin:box-room --camera builtin:box-room --samples 4000 --out " +
+                                 probes.string() + " --json");
+    ASSERT_EQ(automatic.code, 0) << automatic.out;
+    EXPECT_EQ(lastLine(automatic.out)["stop"].get<std::string>(), "automatic");
+    const int pruned = lastLine(automatic.out)["figures"]["pruned"].get<int>();
+    EXPECT_GE(pruned, 1) << automatic.out;
+    EXPECT_NE(automatic.out.find(std::to_string(pruned) + (pruned == 1 ? " probe that" : " probes that") +
+                                 " removed under 1 % given the others dropped"),
+              std::string::npos)
+        << automatic.out;
     // A target error screen space alone meets: nothing to place, and the error says why.
     const CliRun target = run("place builtin:box-room --camera builtin:box-room --target-error 0.5 --samples 2000 --out " +
                               probes.string(), /*withStderr=*/true);

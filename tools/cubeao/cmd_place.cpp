@@ -28,13 +28,19 @@ struct PlaceArgs {
 };
 
 // Why voting stopped, in words for the summary line ("" for the other methods).
-std::string stopReason(const std::string& stop) {
+std::string stopReason(const placement::Placement& result) {
+    const std::string& stop = result.stop;
     if (stop == "budget") return "; the budget";
     if (stop == "target_error") return "; --target-error reached";
     if (stop == "automatic") {
         char share[32];
         std::snprintf(share, sizeof share, "%g", 100.0 * placement::kAutomaticStop);
-        return "; the next probe would remove under " + std::string(share) + " % of the predicted error";
+        std::string why = "; the next probe would remove under " + std::string(share) + " % of the predicted error";
+        for (const auto& [name, value] : result.figures)
+            if (name == "pruned" && value > 0.0)
+                why += ", and " + std::to_string(int(value)) + (value == 1.0 ? " probe that" : " probes that") +
+                       " removed under " + share + " % given the others dropped";
+        return why;
     }
     if (stop == "no_gain") return "; no further probe lowers the predicted error (fewer than --budget)";
     return "";
@@ -157,7 +163,7 @@ void run(PlaceArgs a) {
     std::printf("place %s: %zu probes, predicted MAE %.4f, served %.1f %% of %.4g relevant area, fine coverage %.1f %% "
                 "(twice: %.1f %%)%s -> %s\n",
                 m.c_str(), probes.size(), result.predictedMae, 100.0 * result.served, result.relevantArea,
-                100.0 * result.coverage, 100.0 * result.coverage2, stopReason(result.stop).c_str(), a.out.c_str());
+                100.0 * result.coverage, 100.0 * result.coverage2, stopReason(result).c_str(), a.out.c_str());
     if (a.json) {
         nlohmann::json j = report;
         j["probes"] = probes.size();
