@@ -233,7 +233,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     // checks that as a probe joins, but later probes and the moves take over part of what an earlier
     // one serves: drop the probe that removes least while it removes under that share of the error
     // without it, one at a time (the others' shares grow as one goes). Sibenik's walk: the 5th probe
-    // removed 0.6 % once the 13 had moved; the 12 left predict less than the greedy's own 12.
+    // removed 0.6 % once the 13 had moved; the 11 left predict as little as the greedy's own 12.
     std::size_t pruned = 0;
     while (settings.budget == 0 && settings.targetError == 0.0f && chosen.size() > 1) {
         std::size_t weakest = 0;
