@@ -715,9 +715,6 @@ TEST(PlacementError, LiveErrorFeedbackComesNearVotingAtEqualCount) {
     for (std::size_t i = 0; i < live.probes.size(); ++i) EXPECT_EQ(mirrored.probes[i].position, live.probes[i].position);
 }
 
-// The lazy greedy's pick against every site priced exactly: within kSlack of the best exact gain in
-// every round, before and after weights that raise gains (a second walk's frames) and rank() again.
-// The lazy order must not change what the objective says is best by more than the slack.
 // The automatic stop (no --budget, no --target-error) is a promise about the set, not only about the
 // order the greedy found it in: given all the others, each probe removes at least kAutomaticStop of the
 // predicted error, so no probe is paid for (bytes, bake time) that the picture does not need.
@@ -736,7 +733,9 @@ TEST(PlacementError, AutomaticStopKeepsOnlyProbesThatRemoveTheirShare) {
             if (name == "pruned") pruned = value;
         std::printf("%s: %zu probes, %g pruned, predicted %.5f\n", alcove ? "alcove" : "two rooms",
                     voting.probes.size(), pruned, voting.predictedMae);
-        EXPECT_GE(pruned, 0.0) << "the summary says how many probes the stop dropped";
+        // Both scenes hold a probe the greedy took that later ones made worth under the share (2 and 4
+        // of them today): without the prune the loop below fails.
+        EXPECT_GE(pruned, 1.0) << "the scene exercises the prune, and the figures say how many it dropped";
         for (std::size_t j = 0; j < views.size(); ++j) {
             ExpectedError others(ps);
             for (std::size_t i = 0; i < views.size(); ++i)
@@ -747,6 +746,9 @@ TEST(PlacementError, AutomaticStopKeepsOnlyProbesThatRemoveTheirShare) {
     }
 }
 
+// The lazy greedy's pick against every site priced exactly: within kSlack of the best exact gain in
+// every round, before and after weights that raise gains (a second walk's frames) and rank() again.
+// The lazy order must not change what the objective says is best by more than the slack.
 TEST(PlacementError, LazyGreedyPicksWithinTheSlackOfTheBestExactGain) {
     const Scene scene = twoRooms();
     const CameraPath walk = twoRoomsWalk();
