@@ -169,6 +169,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     };
     std::vector<Chosen> chosen;
     const std::size_t budget = settings.budget > 0 ? std::size_t(settings.budget) : sites.size();
+    const bool automatic = settings.budget == 0 && settings.targetError == 0.0f;  // kAutomaticStop decides
     result.stop = "no_gain";
     while (chosen.size() < budget) {
         if (settings.budget == 0 && settings.targetError > 0.0f && error.mae() <= settings.targetError) {
@@ -177,7 +178,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
         }
         const std::optional<SiteGreedy::Pick> pick = greedy.next(error);
         if (!pick) break;
-        if (settings.budget == 0 && settings.targetError == 0.0f && pick->gain < kAutomaticStop * error.mae()) {
+        if (automatic && pick->gain < kAutomaticStop * error.mae()) {
             result.stop = "automatic";
             break;
         }
@@ -235,7 +236,7 @@ Placement placeVoting(const PlacementScene& ps, Progress* progress) {
     // without it, one at a time (the others' shares grow as one goes). Sibenik's walk: the 5th probe
     // removed 0.6 % once the 13 had moved; the 11 left predict as little as the greedy's own 12.
     std::size_t pruned = 0;
-    while (settings.budget == 0 && settings.targetError == 0.0f && chosen.size() > 1) {
+    while (automatic && chosen.size() > 1) {
         std::size_t weakest = 0;
         double weakestShare = 1.0;
         for (std::size_t j = 0; j < chosen.size(); ++j) {
